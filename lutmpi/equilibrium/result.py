@@ -1,0 +1,66 @@
+"""Result objects of a pose solve. Non-convergence is data: ``success``, ``status``, ``message``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+# status code -> text; stored as an attribute of every table's ``status`` dataset
+STATUS = {
+    0: "converged",
+    1: "max_iterations: k_c iteration did not reach the allowed indentation",
+    2: "no_contact: a wheel found no contact within the mesh window",
+    3: "kc_limit: k_c reached its upper limit before the indentation was allowed",
+    4: "equilibrium_failed: the equilibrium solve did not converge at some k_c",
+    5: "window_too_small: the intersecting volume touched the mesh window edge",
+    6: "not_computed",
+    7: "error: an exception was raised while solving this point",
+}
+CONVERGED, MAX_ITER, NO_CONTACT, KC_LIMIT, EQ_FAILED, WINDOW, NOT_COMPUTED, ERROR = range(8)
+SIDES = ("left", "right")
+
+
+@dataclass
+class ContactResult:
+    """One contact on one wheel (SI, track frame)."""
+
+    wheel_point: np.ndarray      # (3,) m, contact point on the wheel
+    rail_point: np.ndarray       # (3,) m, contact point on the rail
+    normal: np.ndarray           # (3,) unit, rail outward normal (from rail into wheel)
+    indentation: float           # m, C_max of this contact (>= 0)
+    kc: float = float("nan")     # N/m, contact stiffness used for this contact
+    force: float = 0.0           # N, normal force magnitude kc * indentation
+    rolling_radius: float = float("nan")   # m, distance of wheel_point from the axle axis
+    contact_angle: float = float("nan")    # rad, normal's angle from vertical; > 0 toward flange
+    wheel_s: float = float("nan")          # m, profile coordinate on the wheel (see Profile)
+    rail_v: float = float("nan")           # m, profile coordinate on the rail (see Profile)
+    wheel_curv_rolling: float = float("nan")    # 1/m, principal curvature, rolling direction
+    wheel_curv_transverse: float = float("nan")  # 1/m, wheel profile curvature (convex > 0)
+    rail_curv_transverse: float = float("nan")   # 1/m, rail profile curvature (convex > 0)
+
+
+@dataclass
+class PoseResult:
+    """Solution for one pose (y_g, yaw) of the wheelset."""
+
+    y: float                      # m, imposed lateral shift y_g
+    yaw: float                    # rad, imposed yaw theta_z
+    method: str
+    x_g: float = float("nan")     # m
+    z_g: float = float("nan")     # m, height of the centre of mass above rail-top level
+    roll: float = float("nan")    # rad, theta_x
+    pitch: float = float("nan")   # rad, theta_y
+    success: bool = False
+    status: int = 6
+    message: str = STATUS[6]
+    nit: int = 0                  # total equilibrium iterations over all k_c levels
+    kc: float = float("nan")      # N/m, final k_c scale
+    indentation: float = float("nan")  # m, final max indentation over both wheels
+    contacts: dict[str, list[ContactResult]] = field(
+        default_factory=lambda: {"left": [], "right": []})
+    time: float = 0.0             # s, CPU time of this solve
+
+    @property
+    def n_contacts(self) -> dict[str, int]:
+        return {s: len(self.contacts[s]) for s in SIDES}
