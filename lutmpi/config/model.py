@@ -12,6 +12,15 @@ INCLINATIONS = {"1:20": math.atan(1 / 20), "1:40": math.atan(1 / 40), "1:30": ma
                 "none": 0.0}
 CONTACT_METHODS = ("max_distance", "max_normal_distance", "load_centre")
 ALL_METHODS = CONTACT_METHODS + ("reference",)
+WHEEL_GENERATORS = ("S1002",)
+RAIL_GENERATORS = ("UIC60",)
+EQUILIBRIUM_SOLVERS = ("newton", "fixed_point")
+# Per-point quantities a table can hold (``[output] quantities``; "all" = every one). The names are
+# the dataset names of ``lutmpi/table/schema.py``. ALWAYS_STORED are written whatever is selected.
+QUANTITIES = ("z_g", "roll", "x_g", "pitch", "wheel_point", "rail_point", "normal", "indentation",
+              "kc", "rolling_radius", "contact_angle", "wheel_s", "rail_v", "curvatures",
+              "n_contacts", "force")
+ALWAYS_STORED = ("status", "iterations", "time")
 
 
 @dataclass(frozen=True)
@@ -89,26 +98,27 @@ class ContactConfig:
 class EquilibriumConfig:
     """Fictitious springs of eq. (1), the vertical load and the k_c iteration (§4.3)."""
 
-    spring_N_per_m: float = 1.0e7          # k_el on x_g, z_g
-    torsion_spring_Nm_per_rad: float = 1.0e7   # k_rot on roll, pitch
-    vertical_load_N: float = 1.0e5         # load on the centre of mass (paper §6)
-    initial_kc_N_per_m: float = 1.0e9      # k_c at step 2
-    max_kc_N_per_m: float = 1.0e16
+    spring_N_per_m: float = 1.0e7  # noqa: N815 -- k_el on x_g, z_g
+    torsion_spring_Nm_per_rad: float = 1.0e7  # noqa: N815 -- k_rot on roll, pitch
+    vertical_load_N: float = 1.0e5  # noqa: N815 -- load on the centre of mass (paper §6)
+    initial_kc_N_per_m: float = 1.0e9  # noqa: N815 -- k_c at step 2
+    max_kc_N_per_m: float = 1.0e16  # noqa: N815 (unit in the name)
     max_iterations: int = 60               # k_c levels x Newton steps budget
-    solver: str = "newton"                 # "newton" (line search + bracketing fallback) or "fixed_point"
+    # "newton" (line search + bracketing fallback) or "fixed_point"
+    solver: str = "newton"
 
 
 @dataclass(frozen=True)
 class MaterialConfig:
-    young_GPa: float = 206.0
+    young_GPa: float = 206.0  # noqa: N815 (unit in the name)
     poisson: float = 0.3
 
     @property
-    def young_Pa(self) -> float:
+    def young_Pa(self) -> float:  # noqa: N802
         return self.young_GPa * 1e9
 
     @property
-    def shear_Pa(self) -> float:
+    def shear_Pa(self) -> float:  # noqa: N802
         return self.young_Pa / (2.0 * (1.0 + self.poisson))
 
 
@@ -120,7 +130,38 @@ class FlangeConfig:
     cantilever_b_mm: float = 320.0
     cantilever_h_mm: float = 45.0
     cantilever_l_mm: float = 27.5
-    base_height_mm: float = 2.0    # radius increment where the flange base starts (above tape circle)
+    # radius increment (above the tape circle) where the flange base starts
+    base_height_mm: float = 2.0
+
+
+@dataclass(frozen=True)
+class WheelWearConfig:
+    """``[wear.wheel]``: parametric wheel wear (applied by ``lutmpi/profiles/wear.py``)."""
+
+    flange_thinning_mm: float = 0.0    # material removed from the flange face (Sd decreases)
+    tread_hollowing_mm: float = 0.0    # depth of a hollow worn into the tread at the tape circle
+
+
+@dataclass(frozen=True)
+class RailWearConfig:
+    """``[wear.rail]``: parametric wear applied to the rail head (``lutmpi/profiles/wear.py``)."""
+
+    vertical_mm: float = 0.0           # head height lost at the rail centre line
+    side_mm: float = 0.0               # gauge-face material lost, measured at the gauge depth
+
+
+@dataclass(frozen=True)
+class WearConfig:
+    """``[wear]``: parametric wear of the chosen profiles; all zero = the profiles as given."""
+
+    wheel: WheelWearConfig = field(default_factory=WheelWearConfig)
+    rail: RailWearConfig = field(default_factory=RailWearConfig)
+
+    @property
+    def any(self) -> bool:
+        """True when any wear parameter is non-zero."""
+        return any(v != 0.0 for v in (self.wheel.flange_thinning_mm, self.wheel.tread_hollowing_mm,
+                                      self.rail.vertical_mm, self.rail.side_mm))
 
 
 @dataclass(frozen=True)
@@ -146,4 +187,12 @@ class Config:
     material: MaterialConfig = field(default_factory=MaterialConfig)
     flange: FlangeConfig = field(default_factory=FlangeConfig)
     output: OutputConfig = field(default_factory=OutputConfig)
+    wear: WearConfig = field(default_factory=WearConfig)
     path: Path | None = None
+
+    @property
+    def text(self) -> str:
+        """The fully resolved configuration as TOML (what every table stores)."""
+        from lutmpi.config.load import config_to_toml
+
+        return config_to_toml(self)
