@@ -1,0 +1,83 @@
+"""Equivalent conicity (EN 15302 Annex B): analytic cone oracle and the standard's benchmark cases.
+
+The benchmark numbers are read from ``shared/validation/en15302/csv`` at test time (CEN/UIC
+copyright: never copied into the repository); the tests skip when the folder is absent.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lutmpi.reports.conicity import conicity_curve, equivalent_conicity, parse_amplitudes
+
+CASES = [f"E{i}" for i in range(1, 10)]
+
+
+@pytest.mark.parametrize("lam", [0.05, 0.2, 0.4])
+def test_pure_cone_gives_its_cone_angle_at_every_amplitude(lam):
+    y = np.linspace(-0.010, 0.010, 201)           # 0.1 mm samples, like measured Δr files
+    amps = parse_amplitudes("1:7.5:0.1")
+    res = conicity_curve(y, 2.0 * lam * y, amps, r0=0.46, e=1.5)
+    assert np.all(np.isfinite(res.tan_gamma_e))
+    np.testing.assert_allclose(res.tan_gamma_e, lam, rtol=0, atol=1e-4 * lam)
+    # Klingel's wavelength 2 pi sqrt(e r0 / (2 lambda)), e the contact-point distance
+    np.testing.assert_allclose(res.wavelength, 2 * np.pi * np.sqrt(1.5 * 0.46 / (2 * lam)),
+                               rtol=1e-6)
+    np.testing.assert_allclose(res.y_right - res.y_left, 2 * amps, rtol=1e-9)
+
+
+def test_conicity_does_not_depend_on_r0_and_e_and_cone_offset_recentres():
+    y = np.linspace(-0.01, 0.01, 101)
+    dr = 0.3 * y + 400 * y**2 + 2e5 * y**3
+    a = np.array([1e-3, 3e-3, 5e-3])
+    np.testing.assert_allclose(equivalent_conicity(y, dr, a, 0.46, 1.5),
+                               equivalent_conicity(y, dr, a, 0.3, 1.9), rtol=1e-8)
+    # a diameter offset on a cone only moves the centre: same conicity
+    c = equivalent_conicity(y, 0.3 * y + 0.3e-3, a)
+    np.testing.assert_allclose(c, 0.15, atol=1e-5)
+
+
+def test_flat_zone_gives_zero_and_unreachable_amplitude_gives_nan():
+    y = np.linspace(-0.005, 0.005, 101)
+    dr = np.where(np.abs(y) <= 0.002, 0.0, 0.2 * (y - np.sign(y) * 0.002))
+    c = equivalent_conicity(y, dr, [1e-3, 1.5e-3, 6e-3])
+    assert c[0] == 0.0 and c[1] == 0.0
+    assert np.isnan(c[2])                         # 2 * 6 mm does not fit in ±5 mm
+
+
+def _load(shared_dir, case):
+    folder = shared_dir / "validation" / "en15302" / "csv"
+    dr_path, ref_path = folder / f"dr_{case}.csv", folder / f"reference_conicity_{case}.csv"
+    if not dr_path.exists() or not ref_path.exists():
+        pytest.skip(f"EN 15302 benchmark {case} not available")
+    dr = np.loadtxt(dr_path, delimiter=",", skiprows=1)
+    ref = np.loadtxt(ref_path, delimiter=",", skiprows=1)
+    return dr, ref
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_en15302_benchmark_inside_tolerance_band(shared_dir, case):
+    dr, ref = _load(shared_dir, case)
+    # the files: Δr = r_right - r_left in mm against y in mm (positive to the right)
+    amp = ref[:, 0]
+    c = equivalent_conicity(dr[:, 0] * 1e-3, dr[:, 1] * 1e-3, amp * 1e-3)
+    reach = np.isfinite(c)
+    # The transcribed Δr covers about ±6.8 mm, less than the 7.5 mm amplitudes of the reference;
+    # beyond the data's reach the conicity is NaN (never extrapolated), everywhere else it must be
+    # inside the band [lower, upper].
+    assert reach[amp <= 2.5].all(), f"{case}: small amplitudes must be computable"
+    span = dr[-1, 0] - dr[0, 0]
+    assert not reach[2 * amp > span + 1e-9].any()
+    inside = (c[reach] >= ref[reach, 3] - 1e-12) & (c[reach] <= ref[reach, 2] + 1e-12)
+    assert inside.all(), (f"{case}: outside the band at amplitudes {amp[reach][~inside]} mm: "
+                          f"{c[reach][~inside]} vs {ref[reach][~inside, 1]}")
+    # far closer than the band: the nominal values are met to < 0.01
+    assert np.max(np.abs(c[reach] - ref[reach, 1])) < 0.01
+
+
+def test_parse_amplitudes():
+    np.testing.assert_allclose(parse_amplitudes("1:2:0.5"), [1e-3, 1.5e-3, 2e-3])
+    np.testing.assert_allclose(parse_amplitudes("3"), [3e-3])
+    with pytest.raises(ValueError):
+        parse_amplitudes("2:1:0.1")
