@@ -1,0 +1,124 @@
+"""Solving a list of grid points and turning each :class:`PoseResult` into schema-shaped records.
+
+Pure: no MPI, no HDF5. The solver is injected (``solver(scene, y, yaw, method) -> PoseResult``); a
+non-converged point is data (its ``status``), an exception is a programming error and propagates
+with a note naming the grid point and method.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any
+
+import numpy as np
+
+from lutmpi.equilibrium.result import SIDES, PoseResult
+from lutmpi.table.grid import Grid
+from lutmpi.table.schema import N_SLOTS, Field
+
+Solver = Callable[[Any, float, float, str], PoseResult]
+Records = dict[str, dict[str, np.ndarray]]   # method -> field name -> array (n_points, *suffix)
+
+_POINT_ATTRS = {"x_g": "x_g", "z_g": "z_g", "roll": "roll", "pitch": "pitch", "status": "status",
+                "iterations": "nit", "compute_time": "time", "kc": "kc",
+                "indentation_max": "indentation"}
+_CONTACT_ATTRS = {"wheel_point": "wheel_point", "rail_point": "rail_point", "normal": "normal",
+                  "indentation": "indentation", "kc_contact": "kc", "force": "force",
+                  "rolling_radius": "rolling_radius", "contact_angle": "contact_angle",
+                  "wheel_s": "wheel_s", "rail_v": "rail_v",
+                  "curv_wheel_rolling": "wheel_curv_rolling",
+                  "curv_wheel_transverse": "wheel_curv_transverse",
+                  "curv_rail_transverse": "rail_curv_transverse"}
+
+
+def default_solver() -> Solver:
+    """The production solver, imported only when needed (it is being written alongside)."""
+    from lutmpi.contact.solve import solve_pose
+
+    return solve_pose
+
+
+def empty_records(fields: Sequence[Field], methods: Iterable[str], n: int) -> Records:
+    """Fill-valued records for ``n`` points of every method."""
+    return {m: {f.name: f.empty((n,)) for f in fields} for m in methods}
+
+
+def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
+    """Write ``result`` into row ``i`` of the per-method arrays ``out`` (only the fields present).
+
+    Contacts of each wheel are ordered by decreasing normal force (stable): slot 0 is the primary
+    contact. Slots beyond :data:`N_SLOTS` are dropped but counted in ``n_contacts``.
+    """
+    for name, attr in _POINT_ATTRS.items():
+        if name in out:
+            out[name][i] = getattr(result, attr)
+    if "n_contacts" in out:
+        out["n_contacts"][i] = [len(result.contacts.get(s, [])) for s in SIDES]
+    wanted = [(name, attr) for name, attr in _CONTACT_ATTRS.items() if name in out]
+    if not wanted:
+        return
+    for iside, side in enumerate(SIDES):
+        contacts = sorted(result.contacts.get(side, []), key=lambda c: -float(c.force))
+        for slot, contact in enumerate(contacts[:N_SLOTS]):
+            for name, attr in wanted:
+                out[name][i, iside, slot] = getattr(contact, attr)
+
+
+def pose_to_record(result: PoseResult, fields: Sequence[Field]) -> dict[str, np.ndarray]:
+    """The flat per-point record of one pose: field name -> array of the field's suffix shape."""
+    out = {f.name: f.empty((1,)) for f in fields}
+    fill_record(out, 0, result)
+    return {name: arr[0] for name, arr in out.items()}
+
+
+def compute_points(scene: Any, grid: Grid, points: np.ndarray, methods: Sequence[str],
+                   solver: Solver, fields: Sequence[Field],
+                   on_point: Callable[[int], None] | None = None) -> tuple[Records, float]:
+    """Solve ``points`` (flat grid indices) for every method.
+
+    Parameters
+    ----------
+    scene : object
+        Passed through to ``solver``.
+    grid : Grid
+    points : ndarray of int, shape (n,)
+        Flat indices into ``grid``.
+    methods : sequence of str
+        Contact methods to solve (only these are computed).
+    solver : callable
+        ``solver(scene, y, yaw, method) -> PoseResult``.
+    fields : sequence of Field
+        Fields to record.
+    on_point : callable, optional
+        Called with the number of points finished so far (progress).
+
+    Returns
+    -------
+    records : dict
+        ``method -> name -> array (n, *suffix)``.
+    busy : float
+        Wall time spent solving, s.
+
+    Raises
+    ------
+    Exception
+        Whatever the solver raised, with a note naming the grid point and the method.
+    """
+    records = empty_records(fields, methods, len(points))
+    busy = 0.0
+    for i, k in enumerate(points):
+        y, yaw = grid.pose(int(k))
+        for method in methods:
+            t0 = time.perf_counter()
+            try:
+                result = solver(scene, y, yaw, method)
+            except Exception as exc:
+                exc.add_note(f"lutmpi: raised while solving {grid.describe(int(k))}, "
+                             f"method {method!r}")
+                raise
+            busy += time.perf_counter() - t0
+            fill_record(records[method], i, result)
+        if on_point is not None:
+            on_point(i + 1)
+    return records, busy

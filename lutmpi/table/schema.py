@@ -1,0 +1,177 @@
+"""The lookup-table schema, declared once: each dataset's name, dtype, shape suffix, units, meaning.
+
+Layout of a table file (HDF5)::
+
+    /                    root attributes: config_toml, lutmpi_version, git_commit, created_utc,
+                         ranks, wall_time_s, schema_version, complete, methods, quantities
+    /y        (ny,)      m    lateral shift y_g of the wheelset (dimension scale)
+    /yaw      (nyaw,)    rad  yaw angle theta_z (dimension scale)
+    /<method>/<name>     one group per contact method (``load_centre``, ``reference``, ...),
+                         each dataset of shape ``(ny, nyaw) + suffix``
+
+Per-contact datasets have the suffix ``(2, 2)`` (side: 0 = left, 1 = right; slot: 0 = the contact
+carrying the largest normal force, 1 = the second contact of a double contact) and vectors a
+further ``(3,)`` (x, y, z in the track frame). A missing contact is NaN. ``status`` holds the
+codes of :data:`lutmpi.equilibrium.result.STATUS` (attribute ``status_codes``, JSON).
+
+This module is pure: no h5py, no mpi4py.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from lutmpi.equilibrium.result import NOT_COMPUTED, SIDES, STATUS
+from lutmpi.errors import ConfigError
+
+SCHEMA_VERSION = 1
+N_SLOTS = 2
+CONTACT_SUFFIX = (len(SIDES), N_SLOTS)
+#: datasets whose values depend on timing, not on the numerics (excluded from parity checks)
+TIMING_FIELDS = ("compute_time",)
+#: root attributes that depend on the run, not on the numerics
+RUN_ATTRIBUTES = ("created_utc", "ranks", "wall_time_s", "git_commit")
+
+
+@dataclass(frozen=True)
+class Field:
+    """One dataset of a method group.
+
+    Attributes
+    ----------
+    name : str
+        Dataset name inside ``/<method>/``.
+    dtype : str
+        NumPy dtype string.
+    suffix : tuple of int
+        Shape after ``(ny, nyaw)``.
+    units : str
+        SI units (``"1"`` dimensionless, ``""`` for codes and counts).
+    description : str
+        One line, stored as the ``description`` attribute.
+    """
+
+    name: str
+    dtype: str
+    suffix: tuple[int, ...]
+    units: str
+    description: str
+
+    @property
+    def fill(self) -> float | int:
+        """Value of a point not yet computed (NaN for floats)."""
+        if self.name == "status":
+            return NOT_COMPUTED
+        return float("nan") if np.dtype(self.dtype).kind == "f" else 0
+
+    @property
+    def per_contact(self) -> bool:
+        return self.suffix[:2] == CONTACT_SUFFIX
+
+    def empty(self, lead: tuple[int, ...]) -> np.ndarray:
+        """An array of shape ``lead + suffix`` filled with :attr:`fill`."""
+        return np.full(tuple(lead) + self.suffix, self.fill, dtype=self.dtype)
+
+
+_C = CONTACT_SUFFIX
+_V = CONTACT_SUFFIX + (3,)
+FIELDS: tuple[Field, ...] = (
+    # per point
+    Field("x_g", "f8", (), "m", "longitudinal shift of the wheelset centre of mass"),
+    Field("z_g", "f8", (), "m", "height of the centre of mass above rail-top level"),
+    Field("roll", "f8", (), "rad", "roll angle theta_x"),
+    Field("pitch", "f8", (), "rad", "pitch angle theta_y"),
+    Field("status", "i1", (), "", "solve status code (see attribute status_codes)"),
+    Field("iterations", "i4", (), "", "equilibrium iterations over all k_c levels"),
+    Field("compute_time", "f8", (), "s", "CPU time of the solve of this point"),
+    Field("kc", "f8", (), "N/m", "final contact stiffness scale k_c"),
+    Field("indentation_max", "f8", (), "m", "final maximum indentation over both wheels"),
+    Field("n_contacts", "i1", (len(SIDES),), "", "number of contacts per wheel [left, right]"),
+    # per wheel x contact slot
+    Field("wheel_point", "f8", _V, "m", "contact point on the wheel, track frame (x, y, z)"),
+    Field("rail_point", "f8", _V, "m", "contact point on the rail, track frame (x, y, z)"),
+    Field("normal", "f8", _V, "1", "rail outward unit normal, track frame (x, y, z)"),
+    Field("indentation", "f8", _C, "m", "indentation C_max of the contact"),
+    Field("kc_contact", "f8", _C, "N/m", "contact stiffness used for the contact"),
+    Field("force", "f8", _C, "N", "normal force of the contact"),
+    Field("rolling_radius", "f8", _C, "m", "rolling radius at the wheel contact point"),
+    Field("contact_angle", "f8", _C, "rad", "normal angle from vertical, > 0 toward the flange"),
+    Field("wheel_s", "f8", _C, "m", "wheel profile coordinate s of the contact"),
+    Field("rail_v", "f8", _C, "m", "rail profile coordinate v of the contact"),
+    Field("curv_wheel_rolling", "f8", _C, "1/m", "wheel principal curvature, rolling direction"),
+    Field("curv_wheel_transverse", "f8", _C, "1/m", "wheel profile curvature (convex > 0)"),
+    Field("curv_rail_transverse", "f8", _C, "1/m", "rail profile curvature (convex > 0)"),
+)
+FIELDS_BY_NAME = {f.name: f for f in FIELDS}
+#: the selectable quantities of ``[output] quantities`` (:data:`lutmpi.config.model.QUANTITIES`)
+#: -> the datasets each one stores; a name not listed here stores the dataset of the same name
+QUANTITY_FIELDS: dict[str, tuple[str, ...]] = {
+    "indentation": ("indentation", "indentation_max"),
+    "kc": ("kc", "kc_contact"),
+    "curvatures": ("curv_wheel_rolling", "curv_wheel_transverse", "curv_rail_transverse"),
+}
+#: stored whatever ``[output] quantities`` says (:data:`lutmpi.config.model.ALWAYS_STORED`)
+ALWAYS_STORED = ("status", "iterations", "compute_time")
+CONTACT_DIMS = "y, yaw, side [0=left, 1=right], slot [0=largest force, 1=second contact]"
+
+
+def fields_of_quantity(quantity: str) -> tuple[str, ...]:
+    """Dataset names stored for one ``[output] quantities`` entry."""
+    return QUANTITY_FIELDS.get(quantity, (quantity,))
+
+
+def select_fields(quantities: Iterable[str]) -> tuple[Field, ...]:
+    """The fields a table stores for ``output.quantities`` (``"all"`` or a list of names).
+
+    Parameters
+    ----------
+    quantities : iterable of str
+        ``("all",)`` or names from :data:`lutmpi.config.model.QUANTITIES` (or dataset names);
+        :data:`ALWAYS_STORED` are always added.
+
+    Returns
+    -------
+    tuple of Field
+        In schema order.
+
+    Raises
+    ------
+    ConfigError
+        On an unknown name (the message lists the valid ones).
+    """
+    from lutmpi.config.model import QUANTITIES
+
+    wanted = set(quantities)
+    if "all" in wanted:
+        return FIELDS
+    names = set(ALWAYS_STORED)
+    for q in sorted(wanted):
+        stored = fields_of_quantity(q)
+        if not set(stored) <= set(FIELDS_BY_NAME):
+            raise ConfigError(f"unknown quantity {q!r}; valid: 'all' or any of "
+                              f"{', '.join(QUANTITIES)}", key="output.quantities")
+        names.update(stored)
+    return tuple(f for f in FIELDS if f.name in names)
+
+
+def status_codes_json() -> str:
+    """The ``status_codes`` attribute of every ``status`` dataset: JSON ``{"code": "text"}``."""
+    return json.dumps({str(k): v for k, v in STATUS.items()})
+
+
+def dataset_attributes(field: Field) -> dict[str, str]:
+    """Attributes stored on a dataset: ``units``, ``description`` and dims/codes when relevant."""
+    attrs = {"units": field.units, "description": field.description}
+    if field.per_contact:
+        attrs["dims"] = CONTACT_DIMS + (", xyz" if field.suffix[-1:] == (3,) else "")
+    elif field.suffix:
+        attrs["dims"] = "y, yaw, side [0=left, 1=right]"
+    else:
+        attrs["dims"] = "y, yaw"
+    if field.name == "status":
+        attrs["status_codes"] = status_codes_json()
+    return attrs
