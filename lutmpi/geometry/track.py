@@ -1,0 +1,215 @@
+"""Wheels and rails placed on the track.
+
+Both sides are described in a *side-local* lateral coordinate ``u = side * y`` (``side = +1``
+for the left wheel/rail, ``-1`` for the right), positive toward the field side on both sides;
+``z`` is the track's vertical. The track is symmetric, so one placed rail profile ``z = zr(u)``
+serves both rails, and one wheel geometry serves both wheels (left/right by mirroring).
+
+Rail placement
+    The upright rail profile (v, w) is rotated by the inclination ``delta`` so its head faces the
+    track centre: ``v' = v cos d - w sin d``, ``w' = v sin d + w cos d``. The top of rail (highest
+    point after inclination) is put at ``z = 0``; the gauge point (the point of the gauge face
+    nearest the track centre within ``gauge_depth`` below the top) is put at ``u = gauge / 2``.
+Wheel placement
+    The tape circle of each wheel is ``back_to_back / 2 + tape_offset`` from the wheelset centre
+    (0.75 m nominally); profile coordinate ``s`` is positive toward the field side, so a wheel
+    point of profile coordinate ``s`` lies at ``u_w = d + s`` in the wheelset frame, at radius
+    ``r0 + dr(s)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from lutmpi.errors import GeometryError
+from lutmpi.profiles.model import Profile
+
+SIDES = {"left": 1.0, "right": -1.0}
+MAX_SLOPE_DEG = 85.0  # profile parts steeper than this are never contact candidates
+_SAMPLE = 5e-5  # m, resampling step when rotating a profile
+
+
+def _arc_length(x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    return np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
+
+
+def _contiguous_slope_range(slope: np.ndarray, i0: int, limit: float) -> tuple[int, int]:
+    """Largest index range around ``i0`` where |slope| <= limit."""
+    ok = np.abs(slope) <= limit
+    if not ok[i0]:
+        raise GeometryError("profile is steeper than the slope limit at its reference point")
+    lo = i0
+    while lo > 0 and ok[lo - 1]:
+        lo -= 1
+    hi = i0
+    while hi < ok.size - 1 and ok[hi + 1]:
+        hi += 1
+    return lo, hi
+
+
+@dataclass(frozen=True, eq=False)
+class PlacedRail:
+    """One rail on the track in side-local coordinates: ``z = zr(u)`` on ``[u_min, u_max]``.
+
+    Attributes
+    ----------
+    u, z : ndarray
+        Samples of the placed rail (m), ``u`` increasing (toward the field side).
+    gauge_point : (float, float)
+        (u, z) of the gauge point, m: ``u = gauge / 2`` by construction.
+    inclination : float
+        Applied inclination, rad.
+    """
+
+    profile: Profile
+    inclination: float
+    gauge: float
+    gauge_depth: float
+    u: np.ndarray
+    z: np.ndarray
+    gauge_point: tuple[float, float]
+    v_gp: float  # v' of the gauge point before shifting (m)
+    w_top: float  # w' of the top of rail before shifting (m)
+
+    @classmethod
+    def place(
+        cls,
+        profile: Profile,
+        inclination: float,
+        gauge: float,
+        gauge_depth: float,
+        max_slope_deg: float = MAX_SLOPE_DEG,
+    ) -> PlacedRail:
+        """Incline and place ``profile`` (kind ``rail``) as the left rail (``u = y``)."""
+        if profile.kind != "rail":
+            raise GeometryError(f"expected a rail profile, got a {profile.kind} ({profile.name})")
+        n = max(int((profile.y_max - profile.y_min) / _SAMPLE), 200)
+        v = np.linspace(profile.y_min, profile.y_max, n)
+        w = profile.z_at(v)
+        cd, sd = np.cos(inclination), np.sin(inclination)
+        vp, wp = v * cd - w * sd, v * sd + w * cd
+        w_top = float(wp.max())
+        v_gp = cls._gauge_v(vp, wp, w_top - gauge_depth, profile.name)
+        u = 0.5 * gauge + (vp - v_gp)
+        z = wp - w_top
+        # keep the part around the top that is a function of u and not steeper than the limit
+        du, dz = np.diff(u), np.diff(z)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = np.where(du > 0, dz / du, np.inf)
+        i_top = min(int(np.argmax(z)), slope.size - 1)
+        lo, hi = _contiguous_slope_range(slope, i_top, np.tan(np.radians(max_slope_deg)))
+        u, z = u[lo : hi + 2], z[lo : hi + 2]
+        return cls(
+            profile=profile,
+            inclination=float(inclination),
+            gauge=float(gauge),
+            gauge_depth=float(gauge_depth),
+            u=u,
+            z=z,
+            gauge_point=(0.5 * gauge, -gauge_depth),
+            v_gp=v_gp,
+            w_top=w_top,
+        )
+
+    @staticmethod
+    def _gauge_v(vp: np.ndarray, wp: np.ndarray, w_line: float, name: str) -> float:
+        """Smallest v' of the curve where it lies at or above ``w_line`` (exact at crossings)."""
+        above = wp >= w_line
+        if not above.any() or above.all():
+            raise GeometryError(
+                f"rail {name}: no gauge point — the profile does not reach {-(w_line):.4f} m "
+                "below the top of rail on the gauge side"
+            )
+        cands = [vp[above].min()]
+        idx = np.nonzero(above[:-1] != above[1:])[0]
+        for i in idx:
+            t = (w_line - wp[i]) / (wp[i + 1] - wp[i])
+            cands.append(vp[i] + t * (vp[i + 1] - vp[i]))
+        return float(min(cands))
+
+    def __post_init__(self) -> None:
+        spl = CubicSpline(self.u, self.z)
+        object.__setattr__(self, "_spl", spl)
+        object.__setattr__(self, "_d1", spl.derivative(1))
+        object.__setattr__(self, "_d2", spl.derivative(2))
+
+    @property
+    def u_min(self) -> float:
+        return float(self.u[0])
+
+    @property
+    def u_max(self) -> float:
+        return float(self.u[-1])
+
+    def height(self, u: np.ndarray | float) -> np.ndarray:
+        """Rail surface height ``zr(u)``, m."""
+        return self._spl(u)
+
+    def slope(self, u: np.ndarray | float) -> np.ndarray:
+        return self._d1(u)
+
+    def convex_curvature(self, u: np.ndarray | float) -> np.ndarray:
+        """Transverse curvature of the rail surface, 1/m, positive where convex (crown)."""
+        d1 = self._d1(u)
+        return -self._d2(u) / (1.0 + d1 * d1) ** 1.5
+
+    def profile_coordinate(self, u: np.ndarray | float, z: np.ndarray | float) -> np.ndarray:
+        """Map placed (u, z) back to the rail profile's own lateral coordinate v (m)."""
+        vp = np.asarray(u) - 0.5 * self.gauge + self.v_gp
+        wp = np.asarray(z) + self.w_top
+        cd, sd = np.cos(self.inclination), np.sin(self.inclination)
+        return vp * cd + wp * sd
+
+
+@dataclass(frozen=True, eq=False)
+class WheelGeometry:
+    """A wheel: profile ``dr(s)``, nominal radius ``r0``, tape-circle distance ``d``.
+
+    In the wheelset frame, the point of profile coordinate ``s`` at angle ``phi`` on the wheel of
+    side ``side`` is ``(r sin phi, side (d + s), -r cos phi)`` with ``r = r0 + dr(s)``; ``phi = 0``
+    is the lowest point.
+    """
+
+    profile: Profile
+    r0: float
+    d: float
+    s_min: float
+    s_max: float
+
+    @classmethod
+    def place(
+        cls, profile: Profile, r0: float, d: float, max_slope_deg: float = MAX_SLOPE_DEG
+    ) -> WheelGeometry:
+        if profile.kind != "wheel":
+            raise GeometryError(f"expected a wheel profile, got a {profile.kind} ({profile.name})")
+        if not profile.y_min < 0.0 < profile.y_max:
+            raise GeometryError(
+                f"wheel {profile.name}: the tape circle s = 0 is outside the profile"
+            )
+        s = np.linspace(
+            profile.y_min, profile.y_max, max(int((profile.y_max - profile.y_min) / _SAMPLE), 200)
+        )
+        slope = profile.slope(s)
+        lo, hi = _contiguous_slope_range(
+            slope, int(np.argmin(np.abs(s))), np.tan(np.radians(max_slope_deg))
+        )
+        return cls(
+            profile=profile, r0=float(r0), d=float(d), s_min=float(s[lo]), s_max=float(s[hi])
+        )
+
+    def radius(self, s: np.ndarray | float) -> np.ndarray:
+        return self.r0 + self.profile.z_at(s)
+
+    def dr(self, s: np.ndarray | float) -> np.ndarray:
+        return self.profile.slope(s)
+
+    def convex_curvature(self, s: np.ndarray | float) -> np.ndarray:
+        """Transverse curvature of the wheel surface, 1/m, positive where convex (flange tip)."""
+        return -self.profile.curvature(s)
+
+    def flange_tip_radius(self) -> float:
+        s = np.linspace(self.s_min, 0.0, 4000)
+        return float(self.radius(s).max())
