@@ -35,9 +35,10 @@ The paper's numbers (eq. 13, Table 1)
   (``test_eq11_with_s1002_uic60_curvatures``). With S1002/UIC60 curvatures eq. (11) gives
   5e10–1e11 N/m^{3/2} both at the base and at the tip; 7.87e10 is reproduced within a few per cent
   at the base (flank line on the rail's R13 gauge corner, rolling curvature cos γ / r, γ = 70°,
-  r = 0.47 m: 7.98e10), but no plausible tip geometry brings eq. (11) down to 7.09e9: a sharper
-  transverse curvature raises 1/sqrt(D_max + D_min) by less than the elongated ellipse raises
-  sqrt(E)/(g W^{3/2}), so eq. (11) is nearly flat along the flange. A tenfold drop needs a
+  r = 0.47 m: 7.98e10; the concave root polynomial, section C, at S = −32 mm — radius 15.4 mm,
+  slope 27° — on R13: 7.38e10), but no plausible tip geometry brings eq. (11) down to 7.09e9:
+  a sharper transverse curvature lowers 1/sqrt(D_max + D_min) by less than the elongated ellipse
+  raises sqrt(E)/(g W^{3/2}), so eq. (11) is nearly flat along the flange. A tenfold drop needs a
   formula without the 1/g factor (which then gives 3e9–5e9 at the tip) — a possible slip in the
   paper's implementation that we do not adopt. The table uses χ from the paper's stated numbers.
 """
