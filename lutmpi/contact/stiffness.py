@@ -33,7 +33,7 @@ The paper's numbers (eq. 13, Table 1)
   paper's own numbers (with 7.22e10 instead: 6.46e9 and 0.082).
 * 7.87e10 (flange base) and 7.09e9 (flange tip) from eq. (11): see ``tests/unit/test_stiffness.py``
   (``test_eq11_with_s1002_uic60_curvatures``). With S1002/UIC60 curvatures eq. (11) gives
-  5e10–1e11 N/m^{3/2} both at the base and at the tip; 7.87e10 is reproduced within a few per cent
+  5e10–2e11 N/m^{3/2} both at the base and at the tip; 7.87e10 is reproduced within a few per cent
   at the base (flank line on the rail's R13 gauge corner, rolling curvature cos γ / r, γ = 70°,
   r = 0.47 m: 7.98e10; the concave root polynomial, section C, at S = −32 mm — radius 15.4 mm,
   slope 27° — on R13: 7.38e10), but no plausible tip geometry brings eq. (11) down to 7.09e9:
