@@ -20,7 +20,7 @@ EQUILIBRIUM_SOLVERS = ("newton", "fixed_point")
 QUANTITIES = ("z_g", "roll", "x_g", "pitch", "wheel_point", "rail_point", "normal", "indentation",
               "kc", "rolling_radius", "contact_angle", "wheel_s", "rail_v", "curvatures",
               "n_contacts", "force")
-ALWAYS_STORED = ("status", "iterations", "time")
+ALWAYS_STORED = ("status", "iterations", "compute_time")
 
 
 @dataclass(frozen=True)
