@@ -305,3 +305,12 @@ def test_absolute_path_is_not_searched(tmp_path):
     data = _with("wheel", {"profile": os.fspath(tmp_path / "x" / "w.prw")})
     with pytest.raises(ConfigError, match="profile file not found"):
         config_from_dict(data)
+
+
+def test_every_quantity_name_is_a_table_dataset():
+    schema = pytest.importorskip("lutmpi.table.schema")
+    from lutmpi.config.model import ALWAYS_STORED
+
+    for q in QUANTITIES + ALWAYS_STORED:
+        for name in schema.fields_of_quantity(q):
+            assert name in schema.FIELDS_BY_NAME, (q, name)
