@@ -310,6 +310,9 @@ def expand_sweep(source: str | os.PathLike | Mapping,
     for key in doc:
         if key not in _TOP_KEYS:
             raise _err("unknown top-level key; valid keys: " + ", ".join(_TOP_KEYS), path, str(key))
+    for key in ("name", "description"):
+        if key in doc and not isinstance(doc[key], str):
+            raise _err(f"expected a string, got {type(doc[key]).__name__}", path, key)
     base = _read_base(doc, path, root)
     blocks = doc.get("sweep")
     if isinstance(blocks, Mapping):
