@@ -1,0 +1,288 @@
+"""``run_sweep``: build one table per sweep member, serially or under ``mpirun``.
+
+Design (every rank runs it; ``comm=None`` means one process):
+
+1. The sweep is expanded on every rank (pure and deterministic: the same members everywhere). A bad
+   sweep file (unknown key, empty product, missing profile) raises ``ConfigError`` on every rank
+   before anything runs.
+2. Members run one after another, each built by *all* ranks with
+   :func:`lutmpi.parallel.runner.build_table` (a member's grid points are split over the ranks).
+   So no rank idles while a member has at least as many points as there are ranks, and the table of
+   a member is the same whatever the number of ranks.
+3. A member whose complete table is already in ``OUTDIR`` with the same configuration is skipped,
+   so a rerun continues an interrupted sweep (an interrupted member resumes from its partial file).
+4. A member that cannot be built (a profile file that does not parse, a geometry that cannot be
+   placed: errors raised before compute, on every rank alike) is recorded as ``failed`` with its
+   message, and the sweep goes on. An exception raised by the solver at one grid point becomes that
+   point's status 7 (``error``), counted in the index; a member whose every point failed is
+   ``failed``.
+5. Scenes are cached between members whose configurations differ only in what a scene does not
+   depend on (grid, output selection, contact method), e.g. the methods of one mesh level.
+6. Rank 0 rewrites ``OUTDIR/index.csv`` and ``OUTDIR/index.json`` after every member.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import logging
+import math
+import os
+import time
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from lutmpi.config.model import Config, ContactConfig, GridConfig, OutputConfig
+from lutmpi.equilibrium.result import ERROR, STATUS, PoseResult
+from lutmpi.errors import LutmpiError
+
+log = logging.getLogger(__name__)
+
+Solver = Callable[[Any, float, float, str], PoseResult]
+INDEX_FIELDS = ("id", "status", "message", "skipped", "points", "failed_points", "wall_s",
+                "cpu_s", "ranks", "table", "params")
+
+
+@dataclass
+class MemberRecord:
+    """One line of the sweep index."""
+
+    id: str
+    params: dict[str, Any]
+    status: str = "pending"         # ok | failed
+    message: str = ""
+    skipped: bool = False           # complete table found, not rebuilt
+    points: int = 0
+    failed_points: int = 0          # points with status != 0
+    wall_s: float = math.nan        # wall time of the member's build (this run, or as stored)
+    cpu_s: float = math.nan         # sum of compute_time over the table
+    ranks: int = 0
+    table: str = ""                 # relative to OUTDIR
+
+    def row(self) -> dict[str, Any]:
+        out = {k: getattr(self, k) for k in INDEX_FIELDS}
+        out["params"] = json.dumps(self.params, sort_keys=False, default=str)
+        return out
+
+
+@dataclass
+class SweepSummary:
+    """What a sweep did (the same on every rank)."""
+
+    outdir: Path
+    members: list[MemberRecord] = field(default_factory=list)
+
+    @property
+    def failed(self) -> list[MemberRecord]:
+        return [m for m in self.members if m.status != "ok"]
+
+
+class SceneCache:
+    """``scene_factory`` that reuses a scene between members sharing what the scene depends on.
+
+    The key is the configuration with ``grid``, ``output``, ``contact.method`` and ``path`` set to
+    fixed values: a scene holds profiles, geometry and meshes, not the grid or the method."""
+
+    def __init__(self, factory: Callable[[Config], Any]):
+        self.factory = factory
+        self.scenes: dict[str, Any] = {}
+        self.hits = 0
+
+    @staticmethod
+    def key(config: Config) -> str:
+        neutral = dataclasses.replace(
+            config, grid=GridConfig(), output=OutputConfig(), path=None,
+            contact=dataclasses.replace(config.contact, method=ContactConfig.method))
+        return repr(neutral)
+
+    def __call__(self, config: Config) -> Any:
+        k = self.key(config)
+        if k in self.scenes:
+            self.hits += 1
+            return self.scenes[k]
+        scene = self.factory(config)
+        self.scenes = {k: scene}      # keep one: members sharing a scene are adjacent in sweeps
+        return scene
+
+
+def tolerant(solver: Solver) -> Solver:
+    """Wrap ``solver`` so an exception at one pose becomes a result with status ``ERROR``."""
+
+    def solve(scene: Any, y: float, yaw: float, method: str) -> PoseResult:
+        t0 = time.process_time()
+        try:
+            return solver(scene, y, yaw, method)
+        except Exception as exc:  # a failed point is data (STYLE 4); logged with the pose
+            log.warning("solver raised at y=%.6g m, yaw=%.6g rad, method %s: %s: %s", y, yaw,
+                        method, type(exc).__name__, exc)
+            return PoseResult(y=y, yaw=yaw, method=method, success=False, status=ERROR,
+                              message=f"{STATUS[ERROR]} ({type(exc).__name__}: {exc})",
+                              time=time.process_time() - t0)
+
+    return solve
+
+
+def _table_state(path: Path, config_text: str) -> str:
+    """``"absent"``, ``"complete"`` (same config), ``"different"`` or ``"broken"``."""
+    if not path.exists():
+        return "absent"
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            if not bool(f.attrs.get("complete", False)):
+                return "broken"
+            text = f.attrs.get("config_toml", "")
+            text = text.decode() if isinstance(text, bytes) else str(text)
+    except OSError:
+        return "broken"
+    return "complete" if text == config_text else "different"
+
+
+def _table_stats(path: Path) -> dict[str, Any]:
+    """Points, failed points, CPU seconds, stored wall time and ranks of a complete table."""
+    import h5py
+    import numpy as np
+
+    with h5py.File(path, "r") as f:
+        methods = json.loads(f.attrs["methods"])
+        points = failed = 0
+        cpu = 0.0
+        for m in methods:
+            status = f[m]["status"][...]
+            points += status.size
+            failed += int(np.count_nonzero(status != 0))
+            if "compute_time" in f[m]:
+                cpu += float(np.nansum(f[m]["compute_time"][...]))
+        return {"points": points, "failed_points": failed, "cpu_s": cpu,
+                "wall_s": float(f.attrs.get("wall_time_s", math.nan)),
+                "ranks": int(f.attrs.get("ranks", 0))}
+
+
+def write_index(outdir: Path, records: Sequence[MemberRecord]) -> None:
+    """Write ``index.csv`` and ``index.json`` atomically (rank 0 only)."""
+    rows = [r.row() for r in records]
+    tmp = outdir / "index.csv.tmp"
+    with open(tmp, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=INDEX_FIELDS)
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(tmp, outdir / "index.csv")
+    data = [dict(r.row(), params=r.params) for r in records]
+    tmp = outdir / "index.json.tmp"
+    tmp.write_text(json.dumps({"members": data}, indent=1, default=str) + "\n")
+    os.replace(tmp, outdir / "index.json")
+
+
+def _root(comm: Any, fn: Callable[[], Any]) -> Any:
+    from lutmpi.parallel.runner import _root_decides
+
+    return _root_decides(comm, fn)
+
+
+def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], comm: Any = None, *,
+              solver: Solver | None = None, scene_factory: Callable[[Config], Any] | None = None,
+              force: bool = False, only: Sequence[str] | None = None) -> SweepSummary:
+    """Run every member of a sweep file into ``outdir``.
+
+    Parameters
+    ----------
+    sweep : path
+        Sweep TOML file (see :mod:`lutmpi.config.sweep`).
+    outdir : path
+        Output directory (created): ``<member id>.h5`` per member, ``index.csv``, ``index.json``.
+    comm : mpi4py communicator, optional
+        ``None`` for one process.
+    solver : callable, optional
+        ``solver(scene, y, yaw, method) -> PoseResult``; default: the production solver.
+    scene_factory : callable, optional
+        ``scene_factory(config) -> scene``; default :meth:`lutmpi.scene.Scene.from_config`.
+    force : bool
+        Rebuild every member, even those with a complete table.
+    only : sequence of str, optional
+        Run only these member IDs (others are listed in the index as they are on disk).
+
+    Returns
+    -------
+    SweepSummary
+
+    Raises
+    ------
+    ConfigError
+        A bad sweep file, on every rank, before anything runs.
+    """
+    from lutmpi.config.sweep import expand_sweep
+    from lutmpi.parallel.runner import SelfComm, _make_scene, build_table
+    from lutmpi.table.compute import default_solver
+
+    comm = SelfComm() if comm is None else comm
+    members = expand_sweep(sweep)                      # pure: same list on every rank
+    out = Path(outdir)
+    _root(comm, lambda: out.mkdir(parents=True, exist_ok=True))
+    cache = SceneCache(scene_factory or _make_scene)
+    records: list[MemberRecord] = []
+    summary = SweepSummary(out, records)
+    base_solver: Solver | None = solver
+    for n, member in enumerate(members, 1):
+        rec = MemberRecord(member.id, dict(member.params), table=f"{member.id}.h5",
+                           ranks=comm.size)
+        records.append(rec)
+        path = out / rec.table
+        state = _root(comm, lambda p=path, m=member: _table_state(p, m.config.text))
+        if (only and member.id not in only) or (state == "complete" and not force):
+            _record_existing(comm, rec, path, state)
+            _root(comm, lambda: write_index(out, records))
+            continue
+        if state == "different" and not force:
+            rec.status, rec.message = "failed", (
+                f"{path.name} exists with a different configuration; remove it or use --force")
+            _root(comm, lambda: write_index(out, records))
+            continue
+        log.info("member %d/%d %s", n, len(members), member.id)
+        t0 = time.perf_counter()
+        try:
+            if base_solver is None:
+                base_solver = default_solver()
+            build_table(member.config, path, comm, solver=tolerant(base_solver),
+                        force=force or state == "broken", resume=True, scene_factory=cache)
+        except (LutmpiError, ImportError, OSError, ValueError, RuntimeError) as exc:
+            # raised before compute, on every rank alike (runner._root_decides): not a hang
+            rec.status, rec.message = "failed", f"{type(exc).__name__}: {exc}"
+            log.error("member %s failed: %s", member.id, rec.message)
+            log.debug("%s", traceback.format_exc())
+        else:
+            wall = time.perf_counter() - t0
+            _record_built(comm, rec, path, wall)
+        _root(comm, lambda: write_index(out, records))
+    failed = [r.id for r in records if r.status != "ok"]
+    log.info("sweep done: %d members, %d ok, %d failed%s", len(records),
+             len(records) - len(failed), len(failed), f" ({', '.join(failed)})" if failed else "")
+    return summary
+
+
+def _record_existing(comm: Any, rec: MemberRecord, path: Path, state: str) -> None:
+    if state != "complete":
+        rec.status, rec.message = "failed", f"not run ({state} table)"
+        return
+    stats = _root(comm, lambda: _table_stats(path))
+    rec.status, rec.skipped, rec.message = "ok", True, "complete table found"
+    for k, v in stats.items():
+        setattr(rec, k, v)
+
+
+def _record_built(comm: Any, rec: MemberRecord, path: Path, wall: float) -> None:
+    stats = _root(comm, lambda: _table_stats(path))
+    for k, v in stats.items():
+        setattr(rec, k, v)
+    rec.wall_s = comm.bcast(wall, root=0)
+    rec.ranks = comm.size
+    if rec.points and rec.failed_points == rec.points:
+        rec.status, rec.message = "failed", f"all {rec.points} points failed (see status)"
+    else:
+        rec.status = "ok"
+        if rec.failed_points:
+            rec.message = f"{rec.failed_points} of {rec.points} points not converged"
