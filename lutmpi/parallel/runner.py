@@ -190,7 +190,10 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
     def prepare() -> dict[str, Any]:
         need = h5io.estimate_bytes(grid.n_points, len(chosen))
         resuming = h5io.preflight(out, force=force, resume=resume, need_bytes=need)
-        return {"resuming": resuming, "config_toml": config.text,
+        toml = config.text
+        done = (h5io.check_partial(h5io.partial_path(out), chosen, fields, toml) if resuming
+                else None)
+        return {"done": done, "config_toml": toml,
                 "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
                 "git_commit": git_commit(), "scene": factory(config)}
 
@@ -229,9 +232,10 @@ def _run(comm: Any, config: Config, out: Path, grid: Grid, methods: tuple[str, .
          interval: float, split: str) -> BuildSummary:
     partial = h5io.partial_path(out)
     row_start, row_count = partition.block_range(grid.shape[0], comm.size, comm.rank)
-    if plan["resuming"]:
-        done, blocks = h5io.read_partial(partial, None, row_start, row_count, methods, fields,
-                                         plan["config_toml"])
+    if plan["done"] is not None:
+        done = plan["done"]
+        blocks = h5io.read_rows(partial, row_start, row_count, methods, fields)
+        comm.Barrier()  # every read handle closed before the file is opened for writing
         log.info("resuming %s: %d of %d points already done", partial, int(done.sum()),
                  grid.n_points)
     else:

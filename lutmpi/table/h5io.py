@@ -31,7 +31,7 @@ from h5py import h5fd, h5p, h5s
 
 from lutmpi.errors import TableError
 from lutmpi.table.grid import Grid
-from lutmpi.table.schema import SCHEMA_VERSION, Field, dataset_attributes
+from lutmpi.table.schema import FIELDS, SCHEMA_VERSION, Field, dataset_attributes
 
 DONE = "done"
 # bytes per point per method of a full table, plus slack; used for the free-space check
@@ -169,10 +169,9 @@ def write_checkpoint(path: Path, comm: Any, row_start: int,
         write_rows(f[DONE], row_start, done_rows, dxpl)
 
 
-def read_partial(path: Path, comm: Any, row_start: int, row_count: int,
-                 methods: Sequence[str], fields: Sequence[Field],
-                 config_toml: str) -> tuple[np.ndarray, dict[str, dict[str, np.ndarray]]]:
-    """Read the ``/done`` mask and this rank's row block from a partial file (every rank).
+def check_partial(path: Path, methods: Sequence[str], fields: Sequence[Field],
+                  config_toml: str) -> np.ndarray:
+    """Check an unfinished build can be resumed by this build; return its ``/done`` mask.
 
     Raises
     ------
@@ -190,13 +189,18 @@ def read_partial(path: Path, comm: Any, row_start: int, row_count: int,
                              "to start over")
         stored = {m: set(f[m]) for m in f if isinstance(f[m], h5py.Group)}
         wanted = {m: {fld.name for fld in fields} for m in methods}
-        if stored != wanted:
+        if stored != wanted or DONE not in f:
             raise TableError(f"{path} holds methods/quantities {sorted(stored)} that differ from "
                              f"this build's {sorted(wanted)}; pass --force to start over")
-        done = f[DONE][...].astype(bool)
-        rows = slice(row_start, row_start + row_count)
-        blocks = {m: {fld.name: f[m][fld.name][rows] for fld in fields} for m in methods}
-    return done, blocks
+        return f[DONE][...].astype(bool)
+
+
+def read_rows(path: Path, row_start: int, row_count: int, methods: Sequence[str],
+              fields: Sequence[Field]) -> dict[str, dict[str, np.ndarray]]:
+    """This rank's row block of every dataset of a partial file (serial read, every rank)."""
+    rows = slice(row_start, row_start + row_count)
+    with h5py.File(path, "r") as f:
+        return {m: {fld.name: f[m][fld.name][rows] for fld in fields} for m in methods}
 
 
 def finalize(path: Path, comm: Any, attrs: dict[str, Any]) -> None:
@@ -242,7 +246,8 @@ def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
         methods, meta = {}, {}
         for name in json.loads(attrs["methods"]):
             g = f[name]
-            methods[name] = {k: g[k][...] for k in g}
+            order = [fld.name for fld in FIELDS if fld.name in g]
+            methods[name] = {k: g[k][...] for k in order}
             meta[name] = {k: {a: _plain(v) for a, v in g[k].attrs.items()
                               if a not in ("DIMENSION_LIST",)} for k in g}
         return {"attrs": attrs, "y": f["y"][...], "yaw": f["yaw"][...], "methods": methods,
