@@ -56,7 +56,8 @@ import math
 import numpy as np
 from scipy import integrate, optimize
 
-__all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes"]
+__all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
+           "dr_from_table"]
 
 
 class _PiecewiseLinear:
@@ -255,3 +256,48 @@ def parse_amplitudes(text: str) -> np.ndarray:
         n = int(math.floor((parts[1] - parts[0]) / parts[2] + 1e-9)) + 1
         return (parts[0] + parts[2] * np.arange(n)) * 1e-3
     return np.array([float(p) for p in text.split(",") if p.strip()]) * 1e-3
+
+
+def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """``(y, dr)`` at yaw = 0 from a lookup table, SI.
+
+    ``dr = r_left - r_right`` of contact slot 0 (the contact carrying the largest normal force) on
+    each wheel: lutmpi's track frame has ``y`` positive to the left, so a positive ``y_g`` puts the
+    left wheel on its larger radii and this is EN 15302's ``dr`` (positive for ``y > 0``). Points
+    that did not converge (status != 0) are left out.
+
+    Parameters
+    ----------
+    table : Mapping
+        As returned by ``lutmpi.table.h5io.read_table`` (``y``, ``yaw``, ``methods``).
+    method : str, optional
+        Method group; default the table's only (or first) method.
+
+    Returns
+    -------
+    y : ndarray, shape (k,)
+        m.
+    dr : ndarray, shape (k,)
+        m.
+
+    Raises
+    ------
+    ValueError
+        The grid has no yaw = 0 column, or the table holds no rolling radii.
+    """
+    yaw = np.asarray(table["yaw"], dtype=float)
+    j = int(np.argmin(np.abs(yaw)))
+    if abs(yaw[j]) > 1e-12:
+        raise ValueError(f"no yaw = 0 column in the grid (closest {yaw[j]:.3g} rad): "
+                         "equivalent conicity needs the wheelset at zero yaw")
+    methods = table["methods"]
+    name = method or next(iter(methods))
+    group = methods[name]
+    if "rolling_radius" not in group:
+        raise ValueError(f"method {name!r}: the table holds no rolling_radius")
+    rr = np.asarray(group["rolling_radius"], dtype=float)[:, j, :, 0]
+    dr = rr[:, 0] - rr[:, 1]
+    ok = np.isfinite(dr)
+    if "status" in group:
+        ok &= np.asarray(group["status"])[:, j] == 0
+    return np.asarray(table["y"], dtype=float)[ok], dr[ok]

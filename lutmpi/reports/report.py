@@ -1,0 +1,286 @@
+"""``lutmpi report OUTDIR -o REPORT``: the convergence (and wear) report of a sweep directory.
+
+Reads ``OUTDIR/index.json`` (written by ``lutmpi sweep``) and the members' tables, and writes
+``REPORT/report.md``, ``REPORT/errors.csv`` and PNG figures. The metrics are computed by the pure
+:mod:`lutmpi.reports.convergence` and :mod:`lutmpi.reports.conicity`; this module only reads files
+(tables through :func:`lutmpi.table.h5io.read_table`, imported when needed) and writes the outputs.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import logging
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lutmpi.errors import TableError
+from lutmpi.reports import conicity as con
+from lutmpi.reports.convergence import (
+    QUANTITIES,
+    MemberTable,
+    Study,
+    convergence_study,
+    error_maps,
+    mesh_spacing_of,
+)
+
+log = logging.getLogger(__name__)
+WEAR_KEYS = re.compile(r"^(wheel|rail|wear)\.")
+AMPLITUDES = "1:7.5:0.1"
+
+
+@dataclass
+class SweepData:
+    """The members of a sweep directory as read from disk."""
+
+    outdir: Path
+    index: list[dict[str, Any]]
+    tables: list[MemberTable] = field(default_factory=list)
+    unreadable: list[tuple[str, str]] = field(default_factory=list)
+
+
+def load_sweep(outdir: str | Path) -> SweepData:
+    """Read ``index.json`` and every table of status ``ok`` (or every ``*.h5`` without index)."""
+    from lutmpi.table.h5io import read_table
+
+    out = Path(outdir)
+    if not out.is_dir():
+        raise TableError(f"{out}: no such sweep directory")
+    index_path = out / "index.json"
+    if index_path.is_file():
+        index = json.loads(index_path.read_text())["members"]
+    else:
+        index = [{"id": p.stem, "status": "ok", "table": p.name, "params": {}, "message": ""}
+                 for p in sorted(out.glob("*.h5"))]
+    if not index:
+        raise TableError(f"{out}: no index.json and no tables")
+    data = SweepData(out, index)
+    for entry in index:
+        if entry.get("status") != "ok":
+            continue
+        try:
+            table = read_table(out / entry["table"])
+        except TableError as exc:
+            data.unreadable.append((entry["id"], str(exc)))
+            continue
+        h = mesh_spacing_of(table["attrs"].get("config_toml", ""))
+        methods = list(table["methods"])
+        for method in methods:
+            mid = entry["id"] if len(methods) == 1 else f"{entry['id']}/{method}"
+            data.tables.append(MemberTable(mid, method,
+                                           math.nan if method == "reference" else h, table))
+    return data
+
+
+def _fmt(x: float, digits: int = 3) -> str:
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "–"
+    return f"{x:.{digits}g}"
+
+
+def write_errors_csv(study: Study, path: Path) -> Path:
+    """One row per member: cost and max/RMS error per quantity (units in the column names)."""
+    cols = ["member", "method", "spacing_mm", "points", "failures", "cpu_s", "cpu_ms_per_point",
+            "wall_s", "ranks"]
+    for q, (unit, _) in QUANTITIES.items():
+        cols += [f"{q}_max_{unit}", f"{q}_rms_{unit}", f"{q}_excluded"]
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for m in study.metrics:
+            row = [m.id, m.method, m.spacing * 1e3, m.points, m.failures, m.cpu_total_s,
+                   m.cpu_per_point_s * 1e3, m.wall_s, m.ranks]
+            for q, (_, scale) in QUANTITIES.items():
+                e = m.errors.get(q)
+                row += [e.max * scale, e.rms * scale, e.excluded] if e else ["", "", ""]
+            w.writerow(row)
+    return path
+
+
+def _convergence_md(study: Study, figs: list[str]) -> list[str]:
+    lines = ["## Convergence", "", f"Reference: **{study.reference}**. Errors over the converged "
+             "points of both tables (contact quantities: slot 0, both wheels); `excl.` counts the "
+             "values left out.", "",
+             "| member | method | h [mm] | points | failures | CPU s | CPU ms/pt | wall s "
+             "| ranks |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for m in study.metrics:
+        lines.append(f"| {m.id} | {m.method} | {_fmt(m.spacing * 1e3)} | {m.points} | "
+                     f"{m.failures} | {_fmt(m.cpu_total_s)} | {_fmt(m.cpu_per_point_s * 1e3)} | "
+                     f"{_fmt(m.wall_s)} | {m.ranks} |")
+    lines += ["", "Max / RMS errors:", "",
+              "| member | " + " | ".join(f"{q} [{u}]" for q, (u, _) in QUANTITIES.items()) + " |",
+              "|---|" + "---|" * len(QUANTITIES)]
+    for m in study.metrics:
+        cells = []
+        for q, (_, s) in QUANTITIES.items():
+            e = m.errors.get(q)
+            cells.append("–" if e is None else
+                         f"{_fmt(e.max * s)} / {_fmt(e.rms * s)}" + (f" ({e.excluded} excl.)"
+                                                                     if e.excluded else ""))
+        lines.append(f"| {m.id} | " + " | ".join(cells) + " |")
+    lines += ["", "Observed order p (fit of max error = C h^p over the mesh levels):", "",
+              "| method | " + " | ".join(QUANTITIES) + " | levels |",
+              "|---|" + "---|" * (len(QUANTITIES) + 1)]
+    for method, per_q in study.orders.items():
+        n = max((v[2] for v in per_q.values()), default=0)
+        lines.append(f"| {method} | " + " | ".join(_fmt(v[0], 3) for v in per_q.values())
+                     + f" | {n} |")
+    lines += [""] + [f"![{f}]({f})" for f in figs] + [""]
+    return lines
+
+
+def _convergence(data: SweepData, report: Path, reference: str) -> tuple[list[str], Study | None]:
+    from lutmpi.reports import plots
+
+    try:
+        study = convergence_study(data.tables, reference=reference)
+    except ValueError as exc:
+        return ["## Convergence", "", f"Not computed: {exc}.", ""], None
+    if not study.metrics:
+        return ["## Convergence", "", "Not computed: no member to compare.", ""], None
+    write_errors_csv(study, report / "errors.csv")
+    figs = []
+    for q in QUANTITIES:
+        if any(q in m.errors for m in study.metrics):
+            figs.append(plots.error_vs_time(study.metrics, q,
+                                            report / f"error_vs_time_{q}.png").name)
+            figs.append(plots.error_vs_spacing(study.metrics, q, study.orders,
+                                               report / f"error_vs_spacing_{q}.png").name)
+    refs = _references(data.tables, reference)
+    for t in data.tables:
+        ref = refs.get(t.method)
+        if ref is None or ref is t:
+            continue
+        for q, err in error_maps(t.group, ref.group).items():
+            if q in ("z_g", "contact_angle"):
+                name = f"map_{_safe(t.id)}_{q}.png"
+                plots.error_map(t.table["y"], t.table["yaw"], err, q, f"{t.id} vs {ref.id}",
+                                report / name)
+                figs.append(name)
+    return _convergence_md(study, figs), study
+
+
+def _references(tables: list[MemberTable], reference: str) -> dict[str, MemberTable]:
+    refs = [t for t in tables if t.method == "reference"]
+    out: dict[str, MemberTable] = {}
+    for t in tables:
+        if t.method == "reference":
+            continue
+        if reference == "reference" and refs:
+            out[t.method] = refs[0]
+        elif reference == "finest":
+            same = [u for u in tables if u.method == t.method]
+            out[t.method] = min(same, key=lambda u: u.spacing)
+    return out
+
+
+def _safe(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9._+-]", "_", text)
+
+
+def _is_wear(data: SweepData) -> bool:
+    return any(WEAR_KEYS.match(k) for e in data.index for k in (e.get("params") or {}))
+
+
+def _wear(data: SweepData, report: Path) -> list[str]:
+    """Δr, contact angle and roll against y at yaw 0, and equivalent conicity, per member."""
+    from lutmpi.reports import plots
+
+    amps = con.parse_amplitudes(AMPLITUDES)
+    dr_c, ang_c, roll_c, conic = {}, {}, {}, {}
+    rows = ["## Wear: rolling-radius difference and equivalent conicity (yaw = 0)", "",
+            "EN 15302 Annex B integration; Δr = r_left − r_right of contact slot 0 (positive for "
+            "y > 0, to the left). `–` = the amplitude does not fit in the table's y range.", "",
+            "| member | tan γe at ŷ = 1 mm | 2 mm | 3 mm | 4 mm | 6 mm | max ŷ [mm] |",
+            "|---|---|---|---|---|---|---|"]
+    for t in data.tables:
+        try:
+            y, dr = con.dr_from_table(t.table, t.method)
+        except ValueError as exc:
+            rows.append(f"| {t.id} | {exc} | | | | | |")
+            continue
+        if y.size < 3:
+            rows.append(f"| {t.id} | fewer than 3 converged points at yaw 0 | | | | | |")
+            continue
+        j = int(np.argmin(np.abs(np.asarray(t.table["yaw"]))))
+        g = t.group
+        dr_c[t.id] = (y, dr)
+        if "contact_angle" in g:
+            ang_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g["contact_angle"])[:, j, 0, 0])
+        if "roll" in g:
+            roll_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g["roll"])[:, j])
+        res = con.conicity_curve(y, dr, amps)
+        conic[t.id] = (amps, res.tan_gamma_e)
+        at = [res.at(a * 1e-3) if np.isfinite(res.tan_gamma_e[np.argmin(abs(amps - a * 1e-3))])
+              else math.nan for a in (1, 2, 3, 4, 6)]
+        reach = amps[np.isfinite(res.tan_gamma_e)]
+        rows.append(f"| {t.id} | " + " | ".join(_fmt(v) for v in at)
+                    + f" | {_fmt(reach.max() * 1e3 if reach.size else math.nan)} |")
+    figs = []
+    if dr_c:
+        figs.append(plots.lines_vs_y(dr_c, "Δr = r_left − r_right [mm]", report / "wear_dr.png",
+                                     1e3).name)
+        figs.append(plots.conicity_plot(conic, report / "wear_conicity.png").name)
+    if ang_c:
+        figs.append(plots.lines_vs_y(ang_c, "contact angle, left wheel slot 0 [rad]",
+                                     report / "wear_contact_angle.png").name)
+    if roll_c:
+        figs.append(plots.lines_vs_y(roll_c, "roll [mrad]", report / "wear_roll.png", 1e3).name)
+    with open(report / "conicity.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["amplitude_mm"] + list(conic))
+        for k, a in enumerate(amps):
+            w.writerow([f"{a * 1e3:.3f}"] + [c[1][k] for c in conic.values()])
+    return rows + [""] + [f"![{f}]({f})" for f in figs] + [""]
+
+
+def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "reference",
+                 wear: bool | None = None) -> Path:
+    """Write ``report.md``, ``errors.csv`` and the figures of a sweep directory.
+
+    Parameters
+    ----------
+    outdir : path
+        A ``lutmpi sweep`` output directory.
+    report_dir : path
+        Where the report goes (created).
+    reference : {"reference", "finest"}
+        Error reference: the semi-analytic solver's member, or each method's finest mesh.
+    wear : bool, optional
+        Add the wear section (Δr, contact angle, roll, conicity per member); default: when the
+        sweep varies profiles or wear parameters.
+
+    Returns
+    -------
+    pathlib.Path
+        The ``report.md`` written.
+    """
+    data = load_sweep(outdir)
+    report = Path(report_dir)
+    report.mkdir(parents=True, exist_ok=True)
+    ok = [e for e in data.index if e.get("status") == "ok"]
+    lines = [f"# Sweep report: {data.outdir}", "",
+             f"{len(data.index)} members, {len(ok)} ok, {len(data.index) - len(ok)} failed.", ""]
+    bad = [e for e in data.index if e.get("status") != "ok"] + [
+        {"id": i, "message": m} for i, m in data.unreadable]
+    if bad:
+        lines += ["Failed members:", ""] + [f"- `{e['id']}`: {e.get('message', '')}" for e in bad]
+        lines.append("")
+    has_mesh_levels = any(t.method != "reference" for t in data.tables)
+    if has_mesh_levels and (reference == "finest" or any(t.method == "reference"
+                                                         for t in data.tables)):
+        section, _ = _convergence(data, report, reference)
+        lines += section
+    if wear or (wear is None and _is_wear(data)):
+        lines += _wear(data, report)
+    path = report / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    log.info("report written to %s", path)
+    return path
