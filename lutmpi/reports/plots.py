@@ -10,6 +10,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 from lutmpi.reports.convergence import QUANTITIES, MemberMetrics  # noqa: E402
@@ -49,6 +50,7 @@ def error_vs_time(metrics: Sequence[MemberMetrics], quantity: str, path: str | P
         for ti, ei, hi in pts:
             ax.annotate(f"h={hi * 1e3:g}", (ti, ei), textcoords="offset points", xytext=(4, 4),
                         fontsize=7)
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.set_xlabel("CPU time, total over the grid [s]")
     ax.set_ylabel(f"max |error| of {quantity} [{unit}]")
     ax.grid(True, which="both", alpha=0.3)

@@ -4,12 +4,14 @@
 For a mesh method the result is the reference pose plus ``C_m h**p_m (1 + 0.5 sin(...))`` on every
 quantity, with ``h`` the largest mesh spacing: ``max_distance`` p = 1, ``load_centre`` p = 2,
 ``max_normal_distance`` p = 1.5. ``reference`` is exact (mesh-free). A wheel profile file whose
-first line is ``garbage`` makes ``make_scene`` raise ``ProfileError`` (a bad profile file).
+first line is ``garbage`` makes ``make_scene`` raise ``ProfileError`` (a bad profile file), and
+``LUTMPI_MESH_FAULT=<method>`` makes every solve of that method raise ``RuntimeError``.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import time
 from typing import Any
 
@@ -45,6 +47,8 @@ def _contact(side: int, y: float, e: float, scene: dict[str, Any]) -> ContactRes
 
 def solve(scene: dict[str, Any], y: float, yaw: float, method: str) -> PoseResult:
     t0 = time.process_time()
+    if os.environ.get("LUTMPI_MESH_FAULT") == method:
+        raise RuntimeError(f"injected fault in method {method}")
     p, c = ORDERS[method]
     e = 0.0 if method == "reference" else c * scene["h"] ** p * (1 + 0.5 * math.sin(300 * y + yaw))
     res = PoseResult(y=y, yaw=yaw, method=method, x_g=0.0, z_g=0.05 * y * y + e,
