@@ -1,0 +1,213 @@
+"""Critical speed of the free wheelset: nonlinear bisection and the classical linear model.
+
+Nonlinear: bisection on V with :func:`lutmpi.dynamics.simulate.simulate`; a speed is "hunting"
+when the oscillation started by a small lateral velocity persists or grows (see
+:func:`lutmpi.dynamics.simulate.classify`).
+
+Linear (the cross-check): the classical free-wheelset model in (y, yaw) (Wickens; Garg &
+Dukkipati §8) with its coefficients taken from the same contact provider at the centred pose:
+
+    m y'' = -2 f22 (k_r y'/V - yaw) - f23 (2 yaw'/V + S' y) - k_gy y
+    I_zz yaw'' = -2 f11 b (b yaw'/V + lam_e y / r0) + 2 f23 (k_r y'/V - yaw)
+                 - f33 (2 yaw'/V + S' y) - k_gyaw yaw - I_yy (V/r0) rho y'
+
+``lam_e`` equivalent conicity at amplitude A (first harmonic of Δr(A sin θ)); ``k_gy`` lateral
+gravitational stiffness (first harmonic of the normal forces' lateral resultant, creep off);
+``k_gyaw`` the same in yaw; ``S'`` slope of the summed static spin creepage of the two contacts
+(the cone angle seen by the spin); ``rho = d roll / dy``, ``k_r = 1 + r0 rho`` (the roll rate
+moves the contact points laterally); f11 .. f33 Kalker's coefficients times G c^n on the centred
+Hertz ellipses under the static loads. The spin degree of freedom is left out (it only carries the
+symmetric longitudinal creep).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from lutmpi.dynamics.contact_provider import ContactProvider
+from lutmpi.dynamics.simulate import simulate
+from lutmpi.dynamics.wheelset import WheelsetParams, contact_forces, kalker_fast
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class LinearParameters:
+    """Coefficients of the linear free-wheelset model (SI)."""
+
+    r0: float            # m, centred rolling radius
+    b: float             # m, half the lateral distance of the contact points
+    lam_e: float         # equivalent conicity at ``amplitude``
+    amplitude: float     # m
+    k_gy: float          # N/m, lateral gravitational stiffness
+    k_gyaw: float        # N m/rad, yaw gravitational stiffness
+    spin_slope: float    # 1/m^2, d(phi_L + phi_R)/dy (static)
+    rho: float           # rad/m, d roll / dy
+    f11: float           # N
+    f22: float           # N
+    f23: float           # N m
+    f33: float           # N m^2
+    load: float          # N, static wheel load
+
+
+def _harmonic(fun, amplitude: float, n: int = 32) -> float:
+    """First sine harmonic c1 of fun(A sin θ), over one period (n samples)."""
+    th = (np.arange(n) + 0.5) * 2.0 * math.pi / n
+    vals = np.array([fun(amplitude * math.sin(x)) for x in th])
+    return float(2.0 / n * np.sum(vals * np.sin(th)))
+
+
+def linear_parameters(provider: ContactProvider, params: WheelsetParams,
+                      amplitude: float = 1e-3, h_yaw: float = 1e-3) -> LinearParameters:
+    """Coefficients of the linear model from a contact provider (table, on-line, coned).
+
+    Parameters
+    ----------
+    provider : ContactProvider
+    params : WheelsetParams
+    amplitude : float
+        Amplitude A of the harmonic linearisation of Δr(y) and the gravitational force, m.
+    h_yaw : float
+        Yaw step for the yaw gravitational stiffness, rad.
+    """
+    g0 = provider.evaluate(0.0, 0.0)
+    r0 = float(np.mean(g0.rolling_radius[:, 0]))
+    b = 0.5 * float(g0.wheel_point[0, 0, 1] - g0.wheel_point[1, 0, 1])
+    no_creep = params.with_(mu=0.0)
+    speed = 10.0
+
+    def dr(y: float) -> float:
+        g = provider.evaluate(y, 0.0)
+        return float(g.rolling_radius[0, 0] - g.rolling_radius[1, 0])
+
+    def fy(y: float) -> float:
+        g = provider.evaluate(y, 0.0)
+        return float(contact_forces(np.array([y, 0, 0, 0, 0.0]), speed, no_creep, g).force[1])
+
+    def spin(y: float) -> float:
+        g = provider.evaluate(y, 0.0)
+        c = contact_forces(np.array([y, 0, 0, 0, 0.0]), speed, no_creep, g).creepage
+        return float(np.sum(np.where(g.active, c[..., 2], 0.0)))
+
+    def mz(yaw: float) -> float:
+        g = provider.evaluate(0.0, yaw)
+        return float(contact_forces(np.array([0, yaw, 0, 0, 0.0]), speed, no_creep, g).moment[2])
+
+    lam_e = _harmonic(dr, amplitude) / (2.0 * amplitude)
+    k_gy = -_harmonic(fy, amplitude) / amplitude
+    s_slope = _harmonic(spin, amplitude) / amplitude
+    k_gyaw = -(mz(h_yaw) - mz(-h_yaw)) / (2.0 * h_yaw)
+    f0 = contact_forces(np.zeros(5), speed, no_creep, g0)
+    load = float(f0.normal_force[0, 0])
+    a_, b_ = (np.array([f0.semi_axes[0, 0, i]]) for i in (0, 1))
+    C11, C22, C23, C33 = (float(c[0]) for c in kalker_fast(a_, b_, params.poisson))
+    c2 = float(a_[0] * b_[0])
+    G = params.shear
+    return LinearParameters(r0=r0, b=b, lam_e=lam_e, amplitude=amplitude, k_gy=k_gy,
+                            k_gyaw=k_gyaw, spin_slope=s_slope, rho=g0.droll_dy,
+                            f11=G * c2 * C11, f22=G * c2 * C22, f23=G * c2**1.5 * C23,
+                            f33=G * c2**2 * C33, load=load)
+
+
+def state_matrix(lp: LinearParameters, params: WheelsetParams, speed: float) -> np.ndarray:
+    """First-order matrix A of ``d/dt (y, yaw, y', yaw') = A (y, yaw, y', yaw')``."""
+    V, m, I = speed, params.mass, params.I_zz
+    kr = 1.0 + lp.r0 * lp.rho
+    gyro = params.I_yy * V / lp.r0 * lp.rho if params.gyroscopic else 0.0
+    # rows: forces (lateral) and moments (yaw) on [y, yaw, y', yaw']
+    Fy = np.array([-lp.f23 * lp.spin_slope - lp.k_gy, 2 * lp.f22,
+                   -2 * lp.f22 * kr / V, -2 * lp.f23 / V])
+    Mz = np.array([-2 * lp.f11 * lp.b * lp.lam_e / lp.r0 - lp.f33 * lp.spin_slope,
+                   -2 * lp.f23 - lp.k_gyaw,
+                   2 * lp.f23 * kr / V - gyro,
+                   -2 * lp.f11 * lp.b**2 / V - 2 * lp.f33 / V])
+    A = np.zeros((4, 4))
+    A[0, 2] = A[1, 3] = 1.0
+    A[2], A[3] = Fy / m, Mz / I
+    return A
+
+
+def max_real_part(lp: LinearParameters, params: WheelsetParams, speed: float) -> float:
+    """Largest real part of the eigenvalues at speed V (1/s)."""
+    return float(np.max(np.linalg.eigvals(state_matrix(lp, params, speed)).real))
+
+
+@dataclass(frozen=True)
+class LinearCritical:
+    """Linear critical speed (m/s; 0 = unstable at every speed scanned, inf = never unstable),
+    the hunting frequency there (Hz) and the coefficients used."""
+
+    speed: float
+    frequency: float
+    parameters: LinearParameters
+
+    def as_dict(self) -> dict:
+        return {"speed": self.speed, "frequency": self.frequency, **asdict(self.parameters)}
+
+
+def linear_critical_speed(lp: LinearParameters, params: WheelsetParams, v_min: float = 0.5,
+                          v_max: float = 200.0, n_scan: int = 200) -> LinearCritical:
+    """Lowest V in [v_min, v_max] where an eigenvalue crosses into the right half-plane."""
+    vs = np.geomspace(v_min, v_max, n_scan)
+    re = np.array([max_real_part(lp, params, v) for v in vs])
+    if re[0] > 0:
+        return LinearCritical(0.0, float("nan"), lp)
+    up = np.nonzero(re > 0)[0]
+    if up.size == 0:
+        return LinearCritical(math.inf, float("nan"), lp)
+    k = up[0]
+    vc = brentq(lambda v: max_real_part(lp, params, v), vs[k - 1], vs[k], xtol=1e-6)
+    ev = np.linalg.eigvals(state_matrix(lp, params, vc))
+    freq = float(abs(ev[np.argmax(ev.real)].imag) / (2 * math.pi))
+    return LinearCritical(float(vc), freq, lp)
+
+
+@dataclass(frozen=True)
+class NonlinearCritical:
+    """Bisection result: the critical speed (m/s) bracketed by [stable, hunting] speeds."""
+
+    speed: float
+    stable_below: float
+    hunting_above: float
+    runs: tuple[tuple[float, str, float], ...]   # (V, kind, growth rate) of every run
+    converged: bool
+
+
+def nonlinear_critical_speed(provider: ContactProvider, params: WheelsetParams, v_lo: float,
+                             v_hi: float, *, rel_tol: float = 0.01, vy0: float = 0.005,
+                             duration: float = 8.0, **sim_kw) -> NonlinearCritical:
+    """Bisection on V between a stable ``v_lo`` and a hunting ``v_hi``.
+
+    ``vy0`` (m/s) is kept small so that the bisection finds the stability boundary of small
+    oscillations (the quantity the linear model predicts); the paper's 0.1 m/s is a large
+    perturbation that may find a subcritical limit cycle below it.
+    """
+    runs: list[tuple[float, str, float]] = []
+
+    def kind(v: float) -> str:
+        r = simulate(provider, params, v, duration, vy0=vy0, events=False, **sim_kw)
+        runs.append((v, r.summary.kind, r.summary.growth_rate))
+        log.info("V = %.3f m/s: %s", v, r.summary.line())
+        return r.summary.kind
+
+    lo_kind, hi_kind = kind(v_lo), kind(v_hi)
+    if lo_kind != "stable" or hi_kind != "hunting":
+        return NonlinearCritical(float("nan"), v_lo, v_hi, tuple(runs), False)
+    lo, hi = v_lo, v_hi
+    while (hi - lo) > rel_tol * hi:
+        mid = 0.5 * (lo + hi)
+        if kind(mid) == "stable":
+            lo = mid
+        else:
+            hi = mid
+    return NonlinearCritical(0.5 * (lo + hi), lo, hi, tuple(runs), True)
+
+
+__all__ = ["LinearParameters", "linear_parameters", "state_matrix", "max_real_part",
+           "LinearCritical", "linear_critical_speed", "NonlinearCritical",
+           "nonlinear_critical_speed"]
