@@ -27,7 +27,8 @@ from lutmpi.profiles._raw import RawProfile
 from lutmpi.profiles.model import Profile
 
 #: Plausible (lateral width, height range) limits in mm, per kind: (w_min, w_max, h_min, h_max).
-EXTENT_MM = {"wheel": (40.0, 250.0, 5.0, 150.0), "rail": (15.0, 200.0, 1.0, 250.0)}
+EXTENT_MM = {"wheel": (40.0, 250.0, 5.0, 150.0), "rail": (15.0, 200.0, 1.0, 250.0),
+             "profile": (15.0, 250.0, 1.0, 250.0)}
 
 #: Contact core of a wheel: from the flange tip to this ``s`` (mm) on the field side.
 WHEEL_CORE_S_MAX_MM = 50.0
@@ -61,8 +62,9 @@ def check_points(raw: RawProfile, path: str) -> None:
     same = (np.diff(raw.y_mm) == 0) & (np.diff(raw.z_mm) == 0)
     if same.any():
         k = int(np.argmax(same)) + 1
+        first, second = sorted((int(raw.lines[k - 1]), int(raw.lines[k])))
         raise _fail(path, f"repeated point ({raw.y_mm[k]:g}, {raw.z_mm[k]:g}) mm, same as the "
-                          f"previous point (line {raw.lines[k - 1]})", int(raw.lines[k]))
+                          f"point on line {first}", second)
 
 
 def check_extent(raw: RawProfile, path: str, kind: str) -> None:
@@ -245,6 +247,7 @@ def build_profile(raw: RawProfile, path: str, kind: str | None, name: str,
                   smoothing: float | None = None, cant_rad: float | None = None) -> Profile:
     """Run checks 1-6 and return the :class:`Profile` (SI units)."""
     check_points(raw, path)
+    check_extent(raw, path, kind or raw.kind or "profile")   # a unit error before the shape
     k = resolve_kind(raw, path, kind)
     check_extent(raw, path, k)
     idx, info = trim_to_function(raw, path, k)
