@@ -184,9 +184,6 @@ def test_trimming_is_recorded(profiles_dir: Path):
 
 
 # -- malformed input: every case names the file and the line ------------------------------------
-CSV_WHEEL = None
-
-
 def _csv_wheel_lines() -> list[str]:
     p = s1002(-69.0, 60.0, step_mm=0.5)
     return ["y_mm,z_mm"] + [f"{a * 1e3:.6f},{b * 1e3:.6f}" for a, b in zip(p.y, p.z, strict=True)]
@@ -322,7 +319,8 @@ def test_unknown_format_lists_the_valid_ones(profiles_dir: Path):
 
 def test_format_override_and_sniffing(tmp_path: Path, profiles_dir: Path):
     # a Simpack file under a foreign extension is sniffed by content
-    p = _write(tmp_path, "s1002.txt", (profiles_dir / "MBench_S1002_v3.prw").read_text().split("\n"))
+    text = (profiles_dir / "MBench_S1002_v3.prw").read_text()
+    p = _write(tmp_path, "s1002.txt", text.split("\n"))
     assert read_profile(p).meta["format"] == "simpack"
     with pytest.raises(ProfileError):
         read_profile(p, format="plain")                 # forced: its header is not numeric
