@@ -170,7 +170,8 @@ def _turning_points(f: _PiecewiseLinear, y0: float, width: float) -> tuple[float
 def _half_wavelength_scaled(f: _PiecewiseLinear, ya: float, yb: float) -> float:
     """``int_{ya}^{yb} dy / sqrt(C - S(y))`` by the substitution ``y = ya + w sin^2(theta/2)``.
 
-    Returns ``inf`` when ``C - S`` vanishes on the whole interval (``dr = 0`` there)."""
+    Returns ``inf`` when ``C - S`` vanishes on the whole interval (``dr = 0`` there) and NaN when
+    it is negative somewhere inside (no bounded motion: e.g. ``dr`` of the wrong sign)."""
     w = yb - ya
 
     def depth(theta: float) -> float:
@@ -190,9 +191,11 @@ def _half_wavelength_scaled(f: _PiecewiseLinear, ya: float, yb: float) -> float:
 
     inner = f.y[(f.y > ya) & (f.y < yb)]
     breaks = 2.0 * np.arcsin(np.sqrt(np.clip((inner - ya) / w, 0.0, 1.0)))
-    dmax = max(depth(t) for t in np.linspace(0.0, math.pi, 65)[1:-1])
+    depths = [depth(t) for t in np.linspace(0.0, math.pi, 65)[1:-1]]
     scale = max(float(np.abs(f.dr).max()) * w, 1e-300)
-    if dmax <= 1e-13 * scale:        # dr == 0 over the whole motion: no restoring, infinite λ
+    if min(depths) < -1e-9 * scale:  # S > C inside: no bounded motion between these points
+        return math.nan
+    if max(depths) <= 1e-13 * scale:  # dr == 0 over the whole motion: no restoring, infinite λ
         return math.inf
     points = breaks if 0 < breaks.size <= 400 else None
     val, _ = integrate.quad(integrand, 0.0, math.pi, points=points, limit=max(200, 4 * inner.size),
@@ -220,8 +223,9 @@ def conicity_curve(y, dr, amplitudes, r0: float = 0.46, e: float = 1.5) -> Conic
     Returns
     -------
     ConicityResult
-        ``tan_gamma_e`` (NaN where the motion of that amplitude does not fit in ``y``; 0 where
-        ``dr = 0`` over the whole motion), the wavelength and the turning points.
+        ``tan_gamma_e`` (NaN where the motion of that amplitude does not fit in ``y`` or is not
+        bounded, e.g. ``dr`` of the wrong sign; 0 where ``dr = 0`` over the whole motion), the
+        wavelength and the turning points.
     """
     y, dr = _validate(y, dr)
     amps = np.atleast_1d(np.asarray(amplitudes, dtype=float))
@@ -235,6 +239,8 @@ def conicity_curve(y, dr, amplitudes, r0: float = 0.46, e: float = 1.5) -> Conic
         if tp is None:
             continue
         half = _half_wavelength_scaled(f, *tp)               # (B.3) times sqrt(2/(e r0))
+        if math.isnan(half):
+            continue
         wavelength = 2.0 * half * math.sqrt(0.5 * e * r0)     # (B.2)-(B.3)
         tan_g = 0.0 if math.isinf(wavelength) else (2 * math.pi / wavelength) ** 2 * e * r0 / 2
         out[:, k] = (tan_g, wavelength, tp[0], tp[1])          # (B.4)

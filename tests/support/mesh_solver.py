@@ -54,6 +54,7 @@ def solve(scene: dict[str, Any], y: float, yaw: float, method: str) -> PoseResul
     res = PoseResult(y=y, yaw=yaw, method=method, x_g=0.0, z_g=0.05 * y * y + e,
                      roll=0.05 * y + e, pitch=0.0, success=True, status=CONVERGED,
                      message="converged", nit=3, kc=1e9, indentation=1e-5)
-    res.contacts = {"left": [_contact(-1, y, e, scene)], "right": [_contact(1, y, e, scene)]}
+    # y > 0 is to the left: the left wheel (side +1 here) rolls on larger radii, Δr = 0.1 y
+    res.contacts = {"left": [_contact(1, y, e, scene)], "right": [_contact(-1, y, e, scene)]}
     res.time = time.process_time() - t0 + 1e-4 * (1 + (method != "reference") / scene["h"] * 1e-4)
     return res

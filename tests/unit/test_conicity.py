@@ -81,3 +81,28 @@ def test_parse_amplitudes():
     np.testing.assert_allclose(parse_amplitudes("3"), [3e-3])
     with pytest.raises(ValueError):
         parse_amplitudes("2:1:0.1")
+
+
+def test_wrong_sign_gives_nan_not_zero():
+    y = np.linspace(-0.005, 0.005, 51)
+    assert np.all(np.isnan(equivalent_conicity(y, -0.1 * y, [1e-3, 3e-3])))
+
+
+def test_dr_from_table_takes_left_minus_right_at_zero_yaw():
+    from lutmpi.reports.conicity import dr_from_table
+
+    y = np.linspace(-4e-3, 4e-3, 5)
+    yaw = np.array([-0.01, 0.0, 0.01])
+    rr = np.full((5, 3, 2, 2), np.nan)
+    rr[:, :, 0, 0] = 0.46 + 0.1 * y[:, None] + 1.0 * yaw   # left; yaw columns differ
+    rr[:, :, 1, 0] = 0.46 - 0.1 * y[:, None]
+    status = np.zeros((5, 3), np.int8)
+    status[0, 1] = 4                                          # a failed point is left out
+    table = {"y": y, "yaw": yaw, "methods": {"load_centre": {"rolling_radius": rr,
+                                                             "status": status}}}
+    yy, dr = dr_from_table(table)
+    np.testing.assert_allclose(yy, y[1:])
+    np.testing.assert_allclose(dr, 0.2 * y[1:], atol=1e-15)
+    table["yaw"] = yaw + 0.005
+    with pytest.raises(ValueError, match="yaw = 0"):
+        dr_from_table(table)

@@ -161,3 +161,33 @@ def test_bad_sweep_is_a_clear_error_before_anything_runs(tmp_path, capsys, body,
     err = capsys.readouterr().err
     assert "error" in err and needle in err and str(sweep) in err
     assert not out.exists()
+
+
+def test_wear_sweep_report_and_conicity_command(tmp_path, capsys):
+    sweep = tmp_path / "wear.toml"
+    sweep.write_text(BASE.replace("y_mm = [-3.0, 3.0, 3]", "y_mm = [-8.0, 8.0, 17]") + """
+[[sweep]]
+product = { "wear.wheel.flange_thinning_mm" = [0.0, 1.0] }
+""")
+    out, rep = tmp_path / "out", tmp_path / "rep"
+    assert cli(["sweep", str(sweep), "-o", str(out), "--solver", SOLVER]) == 0
+    assert cli(["report", str(out), "-o", str(rep)]) == 0
+    text = (rep / "report.md").read_text()
+    assert "## Wear" in text and "## Convergence" not in text
+    for name in ("wear_dr.png", "wear_conicity.png", "wear_contact_angle.png", "wear_roll.png"):
+        assert (rep / name).stat().st_size > 1000
+    # the test solver's Δr = 0.1 y is a cone of conicity 0.05
+    rows = list(csv.reader(open(rep / "conicity.csv")))
+    assert rows[0] == ["amplitude_mm", "ft-0", "ft-1"]
+    vals = np.array([[float(v) for v in r[1:]] for r in rows[1:]])
+    reach = np.array([float(r[0]) for r in rows[1:]]) <= 8.0
+    np.testing.assert_allclose(vals[reach], 0.05, atol=1e-6)
+    capsys.readouterr()
+    table = out / "ft-0.h5"
+    assert cli(["conicity", str(table), "--amplitudes", "1:3:1", "-o",
+                str(tmp_path / "c.csv"), "--plot", str(tmp_path / "c.png")]) == 0
+    printed = capsys.readouterr().out
+    assert "3.000,0.05000" in printed and "at 3 mm: 0.0500" in printed
+    assert (tmp_path / "c.png").exists()
+    np.testing.assert_allclose(np.loadtxt(tmp_path / "c.csv", delimiter=",", skiprows=1)[:, 1],
+                               0.05, atol=1e-6)
