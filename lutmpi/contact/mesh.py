@@ -1,0 +1,233 @@
+"""Surface meshes of the wheel (surface of revolution) and the rail (extrusion), and the contact
+window ("mesh only where contact can happen").
+
+Both meshes are *implicit global grids*. Wheel nodes sit at arc length ``k * h_w`` along the wheel
+profile (``k = 0`` on the tape circle) and at angles ``m * dphi`` (``dphi = h_c / r0``). Rail
+nodes sit at arc length ``l * h_r`` along the placed rail profile (``l = 0`` at the top of rail)
+and at ``x = j * h_x`` along the track. A window is a set of integer indices of that grid, so a
+windowed mesh is an exact subset of the full mesh, and both give the same result whenever the
+window holds every node of the intersecting volume.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from lutmpi.geometry.track import PlacedRail, WheelGeometry
+
+
+def _arc_grid(x: np.ndarray, z: np.ndarray, x_anchor: float, h: float) -> tuple[np.ndarray, int]:
+    """Abscissae of nodes spaced ``h`` in arc length along the curve ``(x, z)`` (dense samples),
+    anchored so that a node falls on ``x_anchor``. Returns (node abscissae, index of the first)."""
+    lam = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
+    lam0 = np.interp(x_anchor, x, lam)
+    k_lo = int(np.ceil((lam[0] - lam0) / h))
+    k_hi = int(np.floor((lam[-1] - lam0) / h))
+    ks = np.arange(k_lo, k_hi + 1)
+    return np.interp(lam0 + ks * h, lam, x), k_lo
+
+
+@dataclass(frozen=True, eq=False)
+class WheelMesh:
+    """Wheel grid: slices (profile nodes) with radius and profile slope; circumferential step."""
+
+    wheel: WheelGeometry
+    h_lat: float
+    h_circ: float
+    s: np.ndarray  # (nk,) profile coordinate of each slice, m
+    r: np.ndarray  # (nk,) radius, m
+    dr: np.ndarray  # (nk,) d r / d s
+    k0: int  # global index of slice 0
+    dphi: float  # rad
+
+    @classmethod
+    def build(cls, wheel: WheelGeometry, h_lat: float, h_circ: float) -> WheelMesh:
+        xs = np.linspace(wheel.s_min, wheel.s_max, 20000)
+        s, k0 = _arc_grid(xs, wheel.profile.z_at(xs), 0.0, h_lat)
+        return cls(
+            wheel=wheel,
+            h_lat=h_lat,
+            h_circ=h_circ,
+            s=s,
+            r=wheel.radius(s),
+            dr=wheel.dr(s),
+            k0=k0,
+            dphi=h_circ / wheel.r0,
+        )
+
+    def body_points(
+        self, side: float, k: np.ndarray, m: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Wheelset-frame node positions and outward unit normals for slice ``k``, angle ``m``."""
+        phi = m * self.dphi
+        r, s, dr = self.r[k], self.s[k], self.dr[k]
+        sp, cp = np.sin(phi), np.cos(phi)
+        pts = np.empty((k.size, 3))
+        pts[:, 0] = r * sp
+        pts[:, 1] = side * (self.wheel.d + s)
+        pts[:, 2] = -r * cp
+        inv = 1.0 / np.sqrt(1.0 + dr * dr)
+        nrm = np.empty((k.size, 3))
+        nrm[:, 0] = sp * inv
+        nrm[:, 1] = -side * dr * inv
+        nrm[:, 2] = -cp * inv
+        return pts, nrm
+
+    def nearest_slice(self, uw: np.ndarray, rho: np.ndarray, K: int = 3) -> np.ndarray:
+        """Index of the slice nearest to the point (``uw``, ``rho``) of the profile plane, where
+        ``uw = d + s`` is the side-local lateral coordinate in the wheelset frame."""
+        s = uw - self.wheel.d
+        i0 = np.searchsorted(self.s, s)
+        cand = np.clip(i0[:, None] + np.arange(-K, K + 1)[None, :], 0, self.s.size - 1)
+        d2 = (self.s[cand] - s[:, None]) ** 2 + (self.r[cand] - rho[:, None]) ** 2
+        return cand[np.arange(s.size), np.argmin(d2, axis=1)]
+
+
+@dataclass(frozen=True, eq=False)
+class RailMesh:
+    """Rail grid: profile nodes (u, z) with unit normals in the (u, z) plane; longitudinal step."""
+
+    rail: PlacedRail
+    h_lat: float
+    h_x: float
+    u: np.ndarray  # (nl,) side-local lateral coordinate, m
+    z: np.ndarray  # (nl,) height, m
+    nu: np.ndarray  # (nl,) u-component of the outward normal
+    nz: np.ndarray  # (nl,) z-component of the outward normal
+
+    @classmethod
+    def build(cls, rail: PlacedRail, h_lat: float, h_x: float) -> RailMesh:
+        us = np.linspace(rail.u_min, rail.u_max, 20000)
+        u_top = float(us[np.argmax(rail.height(us))])
+        u, _ = _arc_grid(us, rail.height(us), u_top, h_lat)
+        z = rail.height(u)
+        sl = rail.slope(u)
+        inv = 1.0 / np.sqrt(1.0 + sl * sl)
+        return cls(rail=rail, h_lat=h_lat, h_x=h_x, u=u, z=z, nu=-sl * inv, nz=inv)
+
+    def nearest_node(self, u: np.ndarray, z: np.ndarray, K: int = 3) -> np.ndarray:
+        """Index of the profile node nearest to (u, z)."""
+        i0 = np.searchsorted(self.u, u)
+        cand = np.clip(i0[:, None] + np.arange(-K, K + 1)[None, :], 0, self.u.size - 1)
+        d2 = (self.u[cand] - u[:, None]) ** 2 + (self.z[cand] - z[:, None]) ** 2
+        return cand[np.arange(u.size), np.argmin(d2, axis=1)]
+
+
+@dataclass
+class Window:
+    """The part of both meshes where contact can happen for one wheel at one pose.
+
+    Wheel nodes are given by (slice ``k``, angle ``m``) with their wheelset-frame positions and
+    normals; rail nodes by (profile node ``l``, longitudinal ``j``) with track-frame positions.
+    """
+
+    side: float
+    k: np.ndarray
+    m: np.ndarray
+    body_pts: np.ndarray
+    body_nrm: np.ndarray
+    k_edges: tuple[int, int]  # first/last slice of the window
+    m_edges: dict[int, tuple[int, int]]  # per slice: first/last angle index
+    rail_l: np.ndarray
+    rail_j: np.ndarray
+    rail_pts: np.ndarray  # (n, 3) track frame
+    rail_nrm: np.ndarray  # (n, 3) track frame
+    gap: float  # window depth used, m
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.k.size + self.rail_l.size)
+
+
+def build_window(
+    side: float,
+    wmesh: WheelMesh,
+    rmesh: RailMesh,
+    centre: np.ndarray,
+    R: np.ndarray,
+    phi_star: np.ndarray,
+    gap_k: np.ndarray,
+    depth: float,
+    with_rail: bool = True,
+    full: bool = False,
+) -> Window:
+    """Window of wheel ``side`` around the rigid-contact pose (``centre``, ``R``).
+
+    Parameters
+    ----------
+    phi_star, gap_k : ndarray, shape (nk,)
+        Locus angle and vertical gap of every wheel slice at this pose (m).
+    depth : float
+        Keep nodes whose vertical gap to the other surface is within ``depth`` of the minimum
+        gap (m); slices are kept when their locus gap is.
+    full : bool
+        Take every slice over the rail and a wide band of angles (the reference "full mesh").
+    """
+    gmin = np.min(gap_k)
+    if full:
+        ks = np.nonzero(np.isfinite(gap_k))[0]
+        half_arc = np.full(ks.size, 0.25 * wmesh.wheel.r0)
+    else:
+        ks = np.nonzero(gap_k <= gmin + depth)[0]
+        ks = np.unique(np.clip(np.concatenate([ks - 1, ks, ks + 1]), 0, gap_k.size - 1))
+        # conservative angular half-width: circle vs rail with an effective radius <= r / 0.2
+        half_arc = np.sqrt(2.0 * (wmesh.r[ks] / 0.2) * depth) + 2.0 * wmesh.h_circ
+    mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
+    mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
+    counts = 2 * mh + 1
+    k = np.repeat(ks, counts)
+    m = np.repeat(mc - mh, counts) + (
+        np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    )
+    pts, nrm = wmesh.body_points(side, k, m)
+    tp = centre + pts @ R.T
+    u = side * tp[:, 1]
+    rail = rmesh.rail
+    ok = (u >= rail.u_min) & (u <= rail.u_max)
+    if not full:
+        vgap = np.full(u.shape, np.inf)
+        vgap[ok] = tp[ok, 2] - rail.height(u[ok])
+        ok &= vgap <= gmin + depth
+    k, m, pts, nrm, tp = k[ok], m[ok], pts[ok], nrm[ok], tp[ok]
+    m_edges: dict[int, tuple[int, int]] = {}
+    for kk, lo, hi in zip(ks, mc - mh, mc + mh, strict=True):
+        m_edges[int(kk)] = (int(lo), int(hi))
+    rl, rj, rp, rn = _rail_box(side, rmesh, tp, with_rail)
+    return Window(
+        side=side,
+        k=k,
+        m=m,
+        body_pts=pts,
+        body_nrm=nrm,
+        k_edges=(int(ks.min()), int(ks.max())) if ks.size else (0, -1),
+        m_edges=m_edges,
+        rail_l=rl,
+        rail_j=rj,
+        rail_pts=rp,
+        rail_nrm=rn,
+        gap=depth,
+    )
+
+
+def _rail_box(
+    side: float, rmesh: RailMesh, wheel_track_pts: np.ndarray, with_rail: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Rail nodes in the box spanned by the window's wheel nodes (plus two nodes each way)."""
+    empty = np.zeros(0, dtype=int)
+    if not with_rail or wheel_track_pts.shape[0] == 0:
+        return empty, empty, np.zeros((0, 3)), np.zeros((0, 3))
+    u = side * wheel_track_pts[:, 1]
+    x = wheel_track_pts[:, 0]
+    l_lo = max(int(np.searchsorted(rmesh.u, u.min())) - 2, 0)
+    l_hi = min(int(np.searchsorted(rmesh.u, u.max())) + 2, rmesh.u.size - 1)
+    j_lo = int(np.floor(x.min() / rmesh.h_x)) - 2
+    j_hi = int(np.ceil(x.max() / rmesh.h_x)) + 2
+    ls = np.arange(l_lo, l_hi + 1)
+    js = np.arange(j_lo, j_hi + 1)
+    L, J = np.meshgrid(ls, js, indexing="ij")
+    L, J = L.ravel(), J.ravel()
+    pts = np.stack([J * rmesh.h_x, side * rmesh.u[L], rmesh.z[L]], axis=1)
+    nrm = np.stack([np.zeros(L.size), side * rmesh.nu[L], rmesh.nz[L]], axis=1)
+    return L, J, pts, nrm

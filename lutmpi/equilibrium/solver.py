@@ -1,0 +1,262 @@
+"""Equilibrium of the wheelset on its contacts (eq. 1, eq. 8) and the k_c iteration of §4.3.
+
+Unknowns ``q = (z_g, roll)``; ``y_g`` and yaw are imposed. Fictitious springs ``k_el`` (vertical)
+and ``k_rot`` (roll) tie G to its starting pose ``q0`` (step 1 of §4.3), the vertical load
+``W`` acts on G, and every contact pushes the wheel with ``F = k_c f C n`` (eq. 8; ``n`` the
+rail normal into the wheel, ``f`` the flange factor of §4.5). Residuals::
+
+    R_z     = sum k_c f C n_z          - W - k_el (z_g - z0)
+    R_roll  = sum k_c f C n.(w x rho)  - k_rot (roll - roll0)
+
+with ``w`` the roll axis and ``rho`` the lever arm from G. Because the indentation of a
+contact grows along the wheel normal, ``dC/dq = -n . dP/dq`` exactly to first order, so::
+
+    J = -sum k_c f [n_z, m]^T [n_z, m] - diag(k_el, k_rot),  m = n.(w x rho)
+
+(symmetric, negative definite). A plain fixed-point update ``q <- q0 + (forces - W)/springs`` —
+the paper's step 5 read literally — has gain ``~ k_c / k_el`` and diverges once ``k_c >> k_el``.
+Here Newton's method with a backtracking line search is used, with nested bracketing
+(Brent's method on the monotone vertical residual inside Brent's method on the roll residual) as
+the fallback whenever Newton stalls — the mesh indentation is only piecewise smooth in ``q``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from lutmpi.equilibrium.result import (
+    CONVERGED,
+    EQ_FAILED,
+    KC_LIMIT,
+    MAX_ITER,
+    NO_CONTACT,
+    STATUS,
+)
+
+
+@dataclass(frozen=True)
+class EquilibriumOptions:
+    """Numbers of the equilibrium (SI)."""
+
+    k_el: float = 1.0e7
+    k_rot: float = 1.0e7
+    load: float = 1.0e5
+    kc0: float = 1.0e10
+    kc_max: float = 1.0e16
+    allowed_indentation: float = 1.0e-5
+    max_iterations: int = 60
+    solver: str = "newton"
+    rtol: float = 1.0e-7  # residual tolerance relative to the load
+    qtol: float = 1.0e-8  # pose tolerance: Newton step / bracket width (m; rad x lever)
+    target: float = 0.5  # aim the k_c update at this fraction of the allowed indentation
+
+
+@dataclass
+class ContactForce:
+    """What the equilibrium needs of one contact (track frame)."""
+
+    point: np.ndarray  # wheel point
+    normal: np.ndarray  # rail normal into the wheel (unit)
+    indentation: float  # m
+    factor: float = 1.0  # flange factor f on k_c
+    data: object = None  # the method's own contact record, passed through
+
+
+@dataclass
+class EquilibriumResult:
+    q: np.ndarray
+    success: bool
+    status: int
+    message: str
+    nit: int
+    kc: float
+    indentation: float
+    contacts: dict[str, list[ContactForce]] = field(default_factory=dict)
+    residual: np.ndarray = field(default_factory=lambda: np.zeros(2))
+
+
+Evaluate = Callable[[np.ndarray], dict[str, list[ContactForce]]]
+
+
+class Equilibrium:
+    """Residual, Jacobian and solvers for a given contact evaluation ``evaluate(q)``.
+
+    Parameters
+    ----------
+    evaluate : callable
+        ``evaluate(q) -> {"left": [ContactForce...], "right": [...]}`` at ``q = (z_g, roll)``.
+    y, yaw : float
+        Imposed lateral shift (m) and yaw (rad); G is at ``(0, y, z_g)``.
+    q0 : ndarray, shape (2,)
+        Starting pose, where the fictitious springs are unloaded.
+    """
+
+    def __init__(
+        self,
+        evaluate: Evaluate,
+        y: float,
+        yaw: float,
+        q0: np.ndarray,
+        opts: EquilibriumOptions,
+        lever: float = 0.75,
+    ):
+        self.evaluate, self.y, self.yaw = evaluate, y, yaw
+        self.q0 = np.asarray(q0, dtype=float)
+        self.opts = opts
+        self.lever = lever
+        self.axis = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+        self.nit = 0
+
+    # -- residual and Jacobian -------------------------------------------------------------
+    def residual(self, q: np.ndarray, kc: float) -> tuple[np.ndarray, np.ndarray, dict]:
+        self.nit += 1
+        contacts = self.evaluate(q)
+        o = self.opts
+        G = np.array([0.0, self.y, q[0]])
+        R = np.array([-o.load - o.k_el * (q[0] - self.q0[0]), -o.k_rot * (q[1] - self.q0[1])])
+        J = -np.diag([o.k_el, o.k_rot])
+        for cs in contacts.values():
+            for c in cs:
+                k = kc * c.factor
+                a = np.array([c.normal[2], np.dot(c.normal, np.cross(self.axis, c.point - G))])
+                R += k * c.indentation * a
+                J -= k * np.outer(a, a)
+        return R, J, contacts
+
+    def scaled(self, R: np.ndarray) -> np.ndarray:
+        return R / np.array([self.opts.load, self.opts.load * self.lever])
+
+    # -- solvers at fixed k_c ----------------------------------------------------------------
+    def newton(self, q: np.ndarray, kc: float, max_iter: int = 15):
+        """Damped Newton; returns (q, converged, residual, contacts)."""
+        R, J, cs = self.residual(q, kc)
+        for _ in range(max_iter):
+            f0 = float(np.sum(self.scaled(R) ** 2))
+            if np.max(np.abs(self.scaled(R))) <= self.opts.rtol:
+                return q, True, R, cs
+            try:
+                dq = -np.linalg.solve(J, R)
+            except np.linalg.LinAlgError:
+                return q, False, R, cs
+            if self._small(dq):
+                # the pose is known to qtol: what is left of the residual is the jump of a
+                # piecewise-linear mesh indentation, worth less than qtol of displacement
+                return q, True, R, cs
+            lam = 1.0
+            while True:
+                qn = q + lam * dq
+                Rn, Jn, csn = self.residual(qn, kc)
+                if float(np.sum(self.scaled(Rn) ** 2)) < f0 or lam < 0.05:
+                    break
+                lam *= 0.5
+            if float(np.sum(self.scaled(Rn) ** 2)) >= f0:
+                # no descent along the Newton direction: the mesh indentation jumps here
+                return q, False, R, cs
+            q, R, J, cs = qn, Rn, Jn, csn
+        return q, False, R, cs
+
+    def _small(self, dq: np.ndarray) -> bool:
+        return abs(dq[0]) <= self.opts.qtol and abs(dq[1]) * self.lever <= self.opts.qtol
+
+    def bracketing(self, q: np.ndarray, kc: float):
+        """Nested Brent: z_g from the (monotone) vertical residual for each roll, the roll from
+        the (monotone) roll residual. Converges to the pose even where the residual jumps."""
+        o = self.opts
+        span = 10.0 * o.qtol
+
+        def z_of(roll: float) -> float:
+            def fz(z: float) -> float:
+                return self.residual(np.array([z, roll]), kc)[0][0]
+
+            lo, hi = q[0] - span, q[0] + span
+            for _ in range(40):
+                flo, fhi = fz(lo), fz(hi)
+                if flo >= 0 >= fhi:
+                    break
+                if flo < 0:
+                    lo -= 4 * (hi - lo)
+                if fhi > 0:
+                    hi += 4 * (hi - lo)
+            return brentq(fz, lo, hi, xtol=o.qtol, rtol=4 * np.finfo(float).eps)
+
+        def froll(roll: float) -> float:
+            z = z_of(roll)
+            return self.residual(np.array([z, roll]), kc)[0][1]
+
+        span_r = span / self.lever
+        lo, hi = q[1] - span_r, q[1] + span_r
+        for _ in range(40):
+            flo, fhi = froll(lo), froll(hi)
+            if flo >= 0 >= fhi:
+                break
+            if flo < 0:
+                lo -= 4 * (hi - lo)
+            if fhi > 0:
+                hi += 4 * (hi - lo)
+        else:
+            return q, False
+        roll = brentq(froll, lo, hi, xtol=o.qtol / self.lever, rtol=4 * np.finfo(float).eps)
+        return np.array([z_of(roll), roll]), True
+
+    def fixed_point(self, q: np.ndarray, kc: float, max_iter: int = 200):
+        """The paper's step 5 read literally: q <- q0 + (contact forces - W) / springs."""
+        o = self.opts
+        for _ in range(max_iter):
+            R, _, cs = self.residual(q, kc)
+            if np.max(np.abs(self.scaled(R))) <= o.rtol:
+                return q, True, R, cs
+            qn = q + R / np.array([o.k_el, o.k_rot])
+            if not np.all(np.isfinite(qn)) or np.max(np.abs(qn - self.q0)) > 0.1:
+                return qn, False, R, cs
+            q = qn
+        return q, False, R, cs
+
+    def solve_at(self, q: np.ndarray, kc: float):
+        if self.opts.solver == "fixed_point":
+            return self.fixed_point(q, kc)
+        qn, ok, R, cs = self.newton(q, kc)
+        if ok:
+            return qn, ok, R, cs
+        try:
+            qb, okb = self.bracketing(qn, kc)
+        except ValueError:  # no sign change found: report, never raise
+            return qn, False, R, cs
+        R, _, cs = self.residual(qb, kc)
+        return qb, okb, R, cs
+
+    # -- the k_c iteration (steps 2-8 of §4.3) -----------------------------------------------------
+    def solve(self) -> EquilibriumResult:
+        o = self.opts
+        kc = o.kc0
+        q = self.q0 - np.array([0.5 * o.load / kc, 0.0])
+        for _ in range(o.max_iterations):
+            q, ok, R, cs = self.solve_at(q, kc)
+            cmax = max((c.indentation for side in cs.values() for c in side), default=0.0)
+            if not ok:
+                return self._result(q, False, EQ_FAILED, kc, cmax, cs, R)
+            if any(len(v) == 0 for v in cs.values()):
+                return self._result(q, False, NO_CONTACT, kc, cmax, cs, R)
+            if cmax <= o.allowed_indentation:
+                return self._result(q, True, CONVERGED, kc, cmax, cs, R)
+            # step 8: raise k_c; aim the indentation at a fraction of the allowed one
+            kc *= float(np.clip(cmax / (o.target * o.allowed_indentation), 2.0, 1e3))
+            if kc > o.kc_max:
+                return self._result(q, False, KC_LIMIT, kc, cmax, cs, R)
+        return self._result(q, False, MAX_ITER, kc, cmax, cs, R)
+
+    def _result(self, q, success, status, kc, cmax, cs, R) -> EquilibriumResult:
+        return EquilibriumResult(
+            q=np.asarray(q),
+            success=success,
+            status=status,
+            message=STATUS[status],
+            nit=self.nit,
+            kc=kc,
+            indentation=cmax,
+            contacts=cs,
+            residual=np.asarray(R),
+        )
