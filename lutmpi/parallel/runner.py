@@ -198,6 +198,7 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
                 "git_commit": git_commit(), "scene": factory(config)}
 
     plan = _root_decides(comm, prepare)
+    log.debug("prepared in %.3f s", time.perf_counter() - t_start)
     try:
         return _run(comm, config, out, grid, chosen, fields, solver, plan, t_start,
                     checkpoint_interval_s, split)
@@ -247,12 +248,14 @@ def _run(comm: Any, config: Config, out: Path, grid: Grid, methods: tuple[str, .
         done = np.zeros(grid.shape, dtype=bool)
         blocks = {m: {f.name: f.empty((row_count, grid.shape[1])) for f in fields}
                   for m in methods}
+    log.debug("partial file ready at %.3f s", time.perf_counter() - t_start)
     state = _State(row_start, row_count, blocks,
                    done[row_start:row_start + row_count].astype(np.uint8))
     todo = np.flatnonzero(~done.ravel())
     mine = todo[partition.split(len(todo), comm.size, comm.rank, split)]
     busy = _compute_all(comm, grid, plan["scene"], methods, fields, solver, state, mine,
                         len(todo), interval, partial)
+    log.debug("computed and written at %.3f s", time.perf_counter() - t_start)
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
     h5io.finalize(partial, comm, {"ranks": comm.size, "wall_time_s": wall,
                                   "created_utc": plan["created_utc"]})

@@ -1,0 +1,62 @@
+"""``lutmpi inspect TABLE.h5``: what a table holds (metadata, grid, methods, status, ranges)."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+import numpy as np
+
+
+def register(subparsers: Any) -> None:
+    p = subparsers.add_parser("inspect", help="describe a lookup table file",
+                              description="Print a table's metadata, grid, methods, status counts "
+                                          "and the range and units of every quantity.")
+    p.add_argument("table", help="table file (HDF5)")
+    p.add_argument("--config", action="store_true", help="also print the stored config TOML")
+    p.set_defaults(func=run)
+
+
+def describe(table: Any, show_config: bool = False) -> str:
+    """The text ``lutmpi inspect`` prints for a :class:`lutmpi.table.Table`."""
+    a = table.attrs
+    lines = [f"table      {table.path}",
+             f"schema     {a.get('schema_version')}   complete {bool(a.get('complete'))}",
+             f"lutmpi     {a.get('lutmpi_version')}   git {a.get('git_commit') or 'unknown'}",
+             f"created    {a.get('created_utc')}   ranks {a.get('ranks')}   "
+             f"wall {float(a.get('wall_time_s', float('nan'))):.2f} s",
+             f"grid       y   {table.y.size:4d} points  {table.y[0] * 1e3:+.3f} .. "
+             f"{table.y[-1] * 1e3:+.3f} mm",
+             f"           yaw {table.yaw.size:4d} points  {table.yaw[0]:+.4f} .. "
+             f"{table.yaw[-1]:+.4f} rad",
+             f"methods    {', '.join(table.methods)}"]
+    for method in table.methods:
+        lines.append(f"\n[{method}]  status: " + ", ".join(
+            f"{k} {v}" for k, v in table.status_counts(method).items()))
+        ct = table.get("compute_time", method, raw=True) if "compute_time" in table.quantities \
+            else None
+        if ct is not None:
+            lines.append(f"  compute time per point: mean {np.nanmean(ct) * 1e3:.1f} ms, "
+                         f"max {np.nanmax(ct) * 1e3:.1f} ms, total {np.nansum(ct):.1f} s")
+        lines.append(f"  {'quantity':24s} {'shape':>16s} {'units':>6s} {'min':>12s} "
+                     f"{'max':>12s} {'NaN %':>6s}")
+        for name in table.quantities:
+            arr = table.get(name, method, raw=True)
+            lines.append("  " + _row(name, arr, table.units(name, method)))
+    if show_config:
+        lines += ["", "# stored configuration", table.config_toml]
+    return "\n".join(lines)
+
+
+def _row(name: str, arr: np.ndarray, units: str) -> str:
+    finite = arr[np.isfinite(arr)] if arr.dtype.kind == "f" else arr.ravel()
+    lo, hi = (f"{finite.min():12.5g}", f"{finite.max():12.5g}") if finite.size else ("-", "-")
+    nan = 100.0 * np.isnan(arr).mean() if arr.dtype.kind == "f" else 0.0
+    return f"{name:24s} {str(arr.shape):>16s} {units:>6s} {lo:>12s} {hi:>12s} {nan:6.1f}"
+
+
+def run(args: argparse.Namespace) -> int:
+    from lutmpi.table import Table
+
+    print(describe(Table.open(args.table), args.config))
+    return 0
