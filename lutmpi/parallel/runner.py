@@ -271,10 +271,20 @@ def _compute_all(comm: Any, grid: Grid, scene: Any, methods: tuple[str, ...], fi
     chunk = max(1, math.ceil(max_local / N_CHUNKS))
     n_chunks = math.ceil(max_local / chunk)
     busy, done_global = 0.0, 0
-    t0 = last_flush = last_log = time.perf_counter()
+    t0 = last_flush = time.perf_counter()
+    last_log = [t0]
+
+    def local_progress(i: int) -> None:
+        # between agreements only rank 0's own count is known: scale it by the number of ranks
+        now = time.perf_counter()
+        if comm.rank == 0 and now - last_log[0] >= PROGRESS_EVERY_S:
+            _log_progress(min(done_global + i * comm.size, n_todo), n_todo, now - t0, "~")
+            last_log[0] = now
+
     for c in range(n_chunks):
         points = mine[c * chunk:(c + 1) * chunk]
-        records, spent = compute_points(scene, grid, points, methods, solver, fields)
+        records, spent = compute_points(scene, grid, points, methods, solver, fields,
+                                        on_point=local_progress)
         busy += spent
         state.pending.append((points, records))
         done_global += comm.allreduce(len(points))
@@ -285,17 +295,17 @@ def _compute_all(comm: Any, grid: Grid, scene: Any, methods: tuple[str, ...], fi
             _exchange(comm, grid, state)
             h5io.write_checkpoint(partial, comm, state.row_start, state.blocks, state.done_rows)
             last_flush = now
-        if comm.rank == 0 and (last or now - last_log >= PROGRESS_EVERY_S):
+        if comm.rank == 0 and (last or now - last_log[0] >= PROGRESS_EVERY_S):
             _log_progress(done_global, n_todo, now - t0)
-            last_log = now
+            last_log[0] = now
     return busy
 
 
-def _log_progress(done: int, total: int, elapsed: float) -> None:
+def _log_progress(done: int, total: int, elapsed: float, approx: str = "") -> None:
     rate = done / elapsed if elapsed > 0 else 0.0
     eta = (total - done) / rate if rate > 0 else float("nan")
-    log.info("points %d/%d (%.0f %%), %.1f points/s, ETA %.0f s", done, total,
-             100.0 * done / max(total, 1), rate, eta)
+    log.info("points %s%d/%d (%.0f %%), %.2f points/s, ETA %.0f s, elapsed %.0f s", approx, done,
+             total, 100.0 * done / max(total, 1), rate, eta, elapsed)
 
 
 def _exchange(comm: Any, grid: Grid, state: _State) -> None:

@@ -79,7 +79,7 @@ def test_sigkill_of_a_rank_then_resume_equals_fresh_build(reference, tmp_path):
         done = int(f["done"][...].sum())
         assert not f.attrs["complete"]
     assert 0 < done < 35
-    res = build(cfg, out, 2, "--resume")
+    res = build(cfg, out, 3, "--resume")   # any number of ranks may resume
     assert res.returncode == 0, res.stderr
     assert f"{35 - done} computed, {done} reused" in res.stderr
     assert differences(ref, out) == []
