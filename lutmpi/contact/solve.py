@@ -132,7 +132,7 @@ def _reference_result(scene, rigid: RigidSolution, method: str) -> PoseResult:
     return res
 
 
-# -- mesh methods -----------------------------------------------------------------------------------
+# -- mesh methods ---------------------------------------------------------------------------
 def _flange_factor(scene, s: float) -> float:
     st = scene.settings
     if not st.flange or s >= 0.0:  # the flange is on the s < 0 side of the tape circle

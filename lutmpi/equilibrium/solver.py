@@ -5,15 +5,19 @@ and ``k_rot`` (roll) tie G to its starting pose ``q0`` (step 1 of §4.3), the ve
 ``W`` acts on G, and every contact pushes the wheel with ``F = k_c f C n`` (eq. 8; ``n`` the
 rail normal into the wheel, ``f`` the flange factor of §4.5). Residuals::
 
-    R_z     = sum k_c f C n_z          - W - k_el (z_g - z0)
-    R_roll  = sum k_c f C n.(w x rho)  - k_rot (roll - roll0)
+    R_z     = sum k_c f C n_z           - W - k_el (z_g - z0)
+    R_roll  = sum k_c f C n_z l         - k_rot (roll - roll0),   l = (w x rho)_z
 
-with ``w`` the roll axis and ``rho`` the lever arm from G. Because the indentation of a
-contact grows along the wheel normal, ``dC/dq = -n . dP/dq`` exactly to first order, so::
+with ``w`` the roll axis and ``rho`` the lever arm from G (``l`` is the horizontal lever arm
+across the roll axis). The lateral force components are reacted by the constraint that imposes
+``y_g`` (the fourth, "lability" spring of §3), not by the roll balance: with the full moment a
+single flange contact whose line of action passes near G can carry the wheelset alone, a spurious
+one-wheel branch; the paper imposes contact of both wheels (§2). Because the indentation of a
+contact grows along the wheel normal, ``dC/dq = -(n_z, n.(w x rho))`` to first order, so::
 
-    J = -sum k_c f [n_z, m]^T [n_z, m] - diag(k_el, k_rot),  m = n.(w x rho)
+    J = -sum k_c f [n_z, n_z l]^T [n_z, n.(w x rho)] - diag(k_el, k_rot)
 
-(symmetric, negative definite). A plain fixed-point update ``q <- q0 + (forces - W)/springs`` —
+A plain fixed-point update ``q <- q0 + (forces - W)/springs`` —
 the paper's step 5 read literally — has gain ``~ k_c / k_el`` and diverges once ``k_c >> k_el``.
 Here Newton's method with a backtracking line search is used, with nested bracketing
 (Brent's method on the monotone vertical residual inside Brent's method on the roll residual) as
@@ -51,7 +55,7 @@ class EquilibriumOptions:
     max_iterations: int = 60
     solver: str = "newton"
     rtol: float = 1.0e-7  # residual tolerance relative to the load
-    qtol: float = 1.0e-8  # pose tolerance: Newton step / bracket width (m; rad x lever)
+    qtol: float = 1.0e-7  # pose tolerance: Newton step / bracket width (m; rad x lever)
     target: float = 0.5  # aim the k_c update at this fraction of the allowed indentation
 
 
@@ -103,6 +107,7 @@ class Equilibrium:
         q0: np.ndarray,
         opts: EquilibriumOptions,
         lever: float = 0.75,
+        fmin: float = 1.0,
     ):
         self.evaluate, self.y, self.yaw = evaluate, y, yaw
         self.q0 = np.asarray(q0, dtype=float)
@@ -110,6 +115,7 @@ class Equilibrium:
         self.lever = lever
         self.axis = np.array([np.cos(yaw), np.sin(yaw), 0.0])
         self.nit = 0
+        self.fmin = fmin
 
     # -- residual and Jacobian -------------------------------------------------------------
     def residual(self, q: np.ndarray, kc: float) -> tuple[np.ndarray, np.ndarray, dict]:
@@ -122,9 +128,14 @@ class Equilibrium:
         for cs in contacts.values():
             for c in cs:
                 k = kc * c.factor
-                a = np.array([c.normal[2], np.dot(c.normal, np.cross(self.axis, c.point - G))])
+                rho = c.point - G
+                w = self.axis
+                wxr = np.array([w[1] * rho[2] - w[2] * rho[1], w[2] * rho[0] - w[0] * rho[2],
+                                w[0] * rho[1] - w[1] * rho[0]])
+                nz = c.normal[2]
+                a = np.array([nz, nz * wxr[2]])
                 R += k * c.indentation * a
-                J -= k * np.outer(a, a)
+                J -= k * np.outer(a, np.array([nz, float(c.normal @ wxr)]))
         return R, J, contacts
 
     def scaled(self, R: np.ndarray) -> np.ndarray:
@@ -142,6 +153,10 @@ class Equilibrium:
                 dq = -np.linalg.solve(J, R)
             except np.linalg.LinAlgError:
                 return q, False, R, cs
+            # trust region: a side without contact leaves J blind in its direction
+            cap = self.step_cap(kc)
+            scale = max(abs(dq[0]) / cap, abs(dq[1]) * self.lever / cap, 1.0)
+            dq = dq / scale
             if self._small(dq):
                 # the pose is known to qtol: what is left of the residual is the jump of a
                 # piecewise-linear mesh indentation, worth less than qtol of displacement
@@ -159,6 +174,10 @@ class Equilibrium:
             q, R, J, cs = qn, Rn, Jn, csn
         return q, False, R, cs
 
+    def step_cap(self, kc: float) -> float:
+        """Largest Newton step (m; rad x lever): a few penetration depths at this k_c."""
+        return 3.0 * self.opts.load / (kc * self.fmin) + 1e-6
+
     def _small(self, dq: np.ndarray) -> bool:
         return abs(dq[0]) <= self.opts.qtol and abs(dq[1]) * self.lever <= self.opts.qtol
 
@@ -166,13 +185,14 @@ class Equilibrium:
         """Nested Brent: z_g from the (monotone) vertical residual for each roll, the roll from
         the (monotone) roll residual. Converges to the pose even where the residual jumps."""
         o = self.opts
-        span = 10.0 * o.qtol
+        span = 0.25 * self.step_cap(kc)
+        z_last = [q[0]]
 
         def z_of(roll: float) -> float:
             def fz(z: float) -> float:
                 return self.residual(np.array([z, roll]), kc)[0][0]
 
-            lo, hi = q[0] - span, q[0] + span
+            lo, hi = z_last[0] - span, z_last[0] + span
             for _ in range(40):
                 flo, fhi = fz(lo), fz(hi)
                 if flo >= 0 >= fhi:
@@ -181,7 +201,8 @@ class Equilibrium:
                     lo -= 4 * (hi - lo)
                 if fhi > 0:
                     hi += 4 * (hi - lo)
-            return brentq(fz, lo, hi, xtol=o.qtol, rtol=4 * np.finfo(float).eps)
+            z_last[0] = brentq(fz, lo, hi, xtol=o.qtol, rtol=4 * np.finfo(float).eps)
+            return z_last[0]
 
         def froll(roll: float) -> float:
             z = z_of(roll)
