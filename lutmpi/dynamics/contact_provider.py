@@ -32,7 +32,7 @@ from lutmpi.equilibrium.result import SIDES
 # the table/pose-record names the dynamics reads (see lutmpi.table.schema)
 RECORD_NAMES = ("z_g", "roll", "x_g", "wheel_point", "normal", "indentation", "rolling_radius",
                 "contact_angle", "curv_wheel_rolling", "curv_wheel_transverse",
-                "curv_rail_transverse")
+                "curv_rail_transverse", "force")
 
 
 @dataclass(frozen=True)
@@ -57,8 +57,8 @@ class ContactGeometry:
     curv_wheel_rolling, curv_wheel_transverse, curv_rail_transverse : ndarray, shape (2, 2)
         Principal curvatures, 1/m (convex > 0).
     indentation : ndarray, shape (2, 2)
-        Indentation of each contact in the pose solve, m; only its ratio within a wheel is used
-        (it splits a wheel's load between the two contacts of a double contact).
+        Weight of each contact in its wheel's load (the pose solve's normal force, else its
+        indentation); only the ratio within a wheel is used (the split of a double contact).
     active : ndarray of bool, shape (2, 2)
         Which contacts exist.
     """
@@ -151,7 +151,20 @@ def geometry_from_records(y: float, yaw: float, rec: dict[str, np.ndarray], h_y:
         curv_wheel_rolling=clean(np.asarray(rec["curv_wheel_rolling"], float)[0]),
         curv_wheel_transverse=clean(np.asarray(rec["curv_wheel_transverse"], float)[0]),
         curv_rail_transverse=clean(np.asarray(rec["curv_rail_transverse"], float)[0]),
-        indentation=np.where(active, np.maximum(clean(ind), 0.0), 0.0), active=active)
+        indentation=_split_weights(rec, active), active=active)
+
+
+def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray:
+    """Weights that split a wheel's load between its contacts: the pose solve's normal forces
+    (``force``) when stored, else the indentations (both are proportional to the contact force in
+    the solve; a rigid ``reference`` solve has zero indentation but its forces)."""
+    for name in ("force", "indentation"):
+        if name in rec:
+            w = np.asarray(rec[name], float)[0]
+            w = np.where(active & np.isfinite(w), np.maximum(w, 0.0), 0.0)
+            if np.all(w.sum(axis=1)[active.any(axis=1)] > 0):
+                return w
+    return active.astype(float)
 
 
 def _steps(y: float, yaw: float, y_axis: np.ndarray | None, yaw_axis: np.ndarray | None,
@@ -188,10 +201,12 @@ class TableProvider:
         self.yaw_axis = np.asarray(getattr(table, "yaw", None)) if hasattr(table, "yaw") else None
         self.flange_angle = self._flange_angle()
         self.calls = 0
+        stored = getattr(table, "quantities", None)
+        self.names = [k for k in RECORD_NAMES if stored is None or k in stored]
 
     def _flange_angle(self) -> float:
         try:
-            data = self.table.read("contact_angle", self.method)  # optional API
+            data = self.table.get("contact_angle", self.method)
             return float(np.nanmax(data))
         except Exception:  # noqa: BLE001 - an optional accessor; fall back to S1002's 70 deg
             return math.radians(70.0)
@@ -206,7 +221,7 @@ class TableProvider:
         ys = np.array([y, y + h_y, y])
         yaws = np.array([yaw, yaw, yaw + h_yaw])
         self.calls += 1
-        rec = self.table.interp(ys, yaws, method=self.method)
+        rec = self.table.interp(ys, yaws, method=self.method, quantities=self.names)
         return geometry_from_records(y, yaw, rec, h_y, h_yaw)
 
 
@@ -315,6 +330,7 @@ class ConedWheelProvider:
         return {"z_g": np.float64(r0), "roll": np.float64(roll), "x_g": np.float64(0.0),
                 "wheel_point": wp, "normal": nrm, "indentation": slot0(np.ones(2)),
                 "rolling_radius": slot0(r), "contact_angle": slot0(gamma),
+                "force": slot0(np.ones(2)),
                 "curv_wheel_rolling": slot0(cos_d / r),
                 "curv_wheel_transverse": slot0(np.zeros(2)),
                 "curv_rail_transverse": slot0(np.full(2, 1.0 / self.rail_crown_radius))}

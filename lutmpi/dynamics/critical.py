@@ -13,8 +13,14 @@ Dukkipati §8) with its coefficients taken from the same contact provider at the
 
 ``lam_e`` equivalent conicity at amplitude A (first harmonic of Δr(A sin θ)); ``k_gy`` lateral
 gravitational stiffness (first harmonic of the normal forces' lateral resultant, creep off);
-``k_gyaw`` the same in yaw; ``S'`` slope of the summed static spin creepage of the two contacts
-(the cone angle seen by the spin); ``rho = d roll / dy``, ``k_r = 1 + r0 rho`` (the roll rate
+``k_gyaw`` the same in yaw; ``kappa`` (:attr:`LinearParameters.transfer`) the load transfer
+that a lateral creep force causes through the roll balance (it multiplies the lateral creep
+terms; 1.16 for a 1:5 cone, 1.005 for S1002 centred); ``S'`` slope of the summed static spin
+creepage of the two contacts (the cone angle seen by the spin); ``k_spin`` the lateral stiffness
+of the static spin-creep forces ``-f23 phi`` (it contains ``f23 S'`` and the growth of
+f23 ~ N with the load transferred by the offset), which replaces ``f23 S' y`` in the lateral
+equation;
+``rho = d roll / dy``, ``k_r = 1 + r0 rho`` (the roll rate
 moves the contact points laterally); f11 .. f33 Kalker's coefficients times G c^n on the centred
 Hertz ellipses under the static loads. The spin degree of freedom is left out (it only carries the
 symmetric longitudinal creep).
@@ -53,6 +59,18 @@ class LinearParameters:
     f23: float           # N m
     f33: float           # N m^2
     load: float          # N, static wheel load
+    delta0: float = 0.0  # rad, centred contact angle
+    k_spin: float = 0.0  # N/m, lateral stiffness of the static spin-creep forces (load-dependent)
+
+    @property
+    def transfer(self) -> float:
+        """Load-transfer factor kappa on the lateral creep force: a lateral creep force F (per
+        wheel, along the contact tangent) also rolls the wheelset about x by (b s + r0 c) F, which
+        moves Delta Q = that / (2 (b c - r0 s)) of load between the wheels, whose normals lean by
+        the contact angle: the net lateral force is kappa F, kappa = c + s (b s + r0 c) /
+        (b c - r0 s), with s, c = sin, cos of delta0 (1 for flat contacts)."""
+        s, c = math.sin(self.delta0), math.cos(self.delta0)
+        return c + s * (self.b * s + self.r0 * c) / (self.b * c - self.r0 * s)
 
 
 def _harmonic(fun, amplitude: float, n: int = 32) -> float:
@@ -78,7 +96,7 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
     g0 = provider.evaluate(0.0, 0.0)
     r0 = float(np.mean(g0.rolling_radius[:, 0]))
     b = 0.5 * float(g0.wheel_point[0, 0, 1] - g0.wheel_point[1, 0, 1])
-    no_creep = params.with_(mu=0.0)
+    no_creep = params.with_(mu=0.0, saturation="cutoff")
     speed = 10.0
 
     def dr(y: float) -> float:
@@ -102,6 +120,15 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
     k_gy = -_harmonic(fy, amplitude) / amplitude
     s_slope = _harmonic(spin, amplitude) / amplitude
     k_gyaw = -(mz(h_yaw) - mz(-h_yaw)) / (2.0 * h_yaw)
+
+    def fy_creep(y: float) -> float:
+        # static creep forces at rest rates: the spin creep of the inclined contacts, whose
+        # coefficient f23 ~ N grows with the load transferred by the offset
+        g = provider.evaluate(y, 0.0)
+        x = np.array([y, 0, 0, 0, 0.0])
+        return float(contact_forces(x, speed, params.with_(saturation="none"), g).force[1]) - fy(y)
+
+    k_spin = -_harmonic(fy_creep, amplitude) / amplitude
     f0 = contact_forces(np.zeros(5), speed, no_creep, g0)
     load = float(f0.normal_force[0, 0])
     a_, b_ = (np.array([f0.semi_axes[0, 0, i]]) for i in (0, 1))
@@ -111,17 +138,23 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
     return LinearParameters(r0=r0, b=b, lam_e=lam_e, amplitude=amplitude, k_gy=k_gy,
                             k_gyaw=k_gyaw, spin_slope=s_slope, rho=g0.droll_dy,
                             f11=G * c2 * C11, f22=G * c2 * C22, f23=G * c2**1.5 * C23,
-                            f33=G * c2**2 * C33, load=load)
+                            f33=G * c2**2 * C33, load=load,
+                            delta0=float(g0.contact_angle[0, 0]), k_spin=k_spin)
 
 
 def state_matrix(lp: LinearParameters, params: WheelsetParams, speed: float) -> np.ndarray:
     """First-order matrix A of ``d/dt (y, yaw, y', yaw') = A (y, yaw, y', yaw')``."""
-    V, m, I = speed, params.mass, params.I_zz
+    V, m, I = speed, params.mass, params.I_zz  # noqa: E741
     kr = 1.0 + lp.r0 * lp.rho
-    gyro = params.I_yy * V / lp.r0 * lp.rho if params.gyroscopic else 0.0
+    kap = lp.transfer
+    omega = V / lp.r0
+    gyro = params.I_yy * omega * lp.rho if params.gyroscopic else 0.0
+    # the gyroscopic roll moment -I_yy Omega yaw' shifts load too (see ``transfer``)
+    s, c = math.sin(lp.delta0), math.cos(lp.delta0)
+    gyro_lat = (s * params.I_yy * omega / (lp.b * c - lp.r0 * s)) if params.gyroscopic else 0.0
     # rows: forces (lateral) and moments (yaw) on [y, yaw, y', yaw']
-    Fy = np.array([-lp.f23 * lp.spin_slope - lp.k_gy, 2 * lp.f22,
-                   -2 * lp.f22 * kr / V, -2 * lp.f23 / V])
+    Fy = np.array([-kap * lp.k_spin - lp.k_gy, 2 * kap * lp.f22,
+                   -2 * kap * lp.f22 * kr / V, -2 * kap * lp.f23 / V + gyro_lat])
     Mz = np.array([-2 * lp.f11 * lp.b * lp.lam_e / lp.r0 - lp.f33 * lp.spin_slope,
                    -2 * lp.f23 - lp.k_gyaw,
                    2 * lp.f23 * kr / V - gyro,

@@ -381,7 +381,7 @@ def _creep(creep: np.ndarray, axes: np.ndarray, load: np.ndarray, t1: np.ndarray
     a, b = axes[ok, 0], axes[ok, 1]
     C = kalker_fast(a, b, params.poisson)
     sat = params.saturation if params.saturation != "none" else "cutoff"
-    mu = params.mu if params.saturation != "none" else np.inf
+    mu = params.mu if params.saturation != "none" else 1e30   # no saturation
     fx, fy, m = linear_creep_forces((creep[ok, 0], creep[ok, 1], creep[ok, 2]), a, b,
                                     params.shear, C, load[ok], mu, sat)
     tang[ok] = fx[:, None] * t1[ok] + fy[:, None] * t2[ok]

@@ -1,0 +1,60 @@
+"""``lutmpi critical-speed``: free-wheelset critical speed from a table, nonlinear and linear."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from typing import Any
+
+
+def register(subparsers: Any) -> None:
+    p = subparsers.add_parser(
+        "critical-speed", help="critical speed of the wheelset: bisection + linear eigenvalues",
+        description="Critical speed of the free wheelset on the table's contact geometry: a "
+                    "linearised eigenvalue analysis (equivalent conicity, gravitational stiffness, "
+                    "Kalker f11..f33) and a bisection on V with the nonlinear simulation.")
+    p.add_argument("config", help="configuration TOML")
+    p.add_argument("--table", help="lookup table (HDF5); required unless --online")
+    p.add_argument("--online", action="store_true", help="contact by a pose solve at every call")
+    p.add_argument("--method", default=None, help="contact method")
+    p.add_argument("--amplitude", type=float, default=1e-3,
+                   help="amplitude of the harmonic linearisation, m (1e-3)")
+    p.add_argument("--duration", type=float, default=20.0, help="run length per speed, s (20)")
+    p.add_argument("--vy0", type=float, default=0.005, help="initial lateral velocity, m/s")
+    p.add_argument("--rel-tol", type=float, default=0.02, help="bisection tolerance (0.02)")
+    p.add_argument("--linear-only", action="store_true", help="skip the bisection")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from lutmpi.commands.simulate import make_provider
+    from lutmpi.dynamics.critical import (
+        linear_critical_speed,
+        linear_parameters,
+        nonlinear_critical_speed,
+    )
+
+    args.output = None
+    provider, params, source = make_provider(args)
+    lp = linear_parameters(provider, params, amplitude=args.amplitude)
+    lin = linear_critical_speed(lp, params)
+    out: dict[str, Any] = {"source": source, "linear": lin.as_dict()}
+    print(f"{source}: linear critical speed {lin.speed:.3f} m/s "
+          f"(hunting frequency {lin.frequency:.3f} Hz; lam_e {lp.lam_e:.4f} at "
+          f"{args.amplitude * 1e3:g} mm, k_gy {lp.k_gy:.4g} N/m, k_gyaw {lp.k_gyaw:.4g} N m/rad)")
+    if not args.linear_only and math.isfinite(lin.speed) and lin.speed > 0:
+        nl = nonlinear_critical_speed(provider, params, 0.6 * lin.speed, 1.6 * lin.speed,
+                                      rel_tol=args.rel_tol, vy0=args.vy0,
+                                      duration=args.duration)
+        out["nonlinear"] = {"speed": nl.speed, "stable_below": nl.stable_below,
+                            "hunting_above": nl.hunting_above, "converged": nl.converged,
+                            "runs": nl.runs}
+        diff = (nl.speed / lin.speed - 1.0) * 100 if nl.converged else float("nan")
+        print(f"{source}: nonlinear critical speed {nl.speed:.3f} m/s in "
+              f"[{nl.stable_below:.3f}, {nl.hunting_above:.3f}] ({len(nl.runs)} runs; "
+              f"{diff:+.1f} % vs linear)")
+    if args.json:
+        print(json.dumps(out, default=float, indent=1))
+    return 0

@@ -1,0 +1,133 @@
+"""Wheelset dynamics (issue 6) on the analytic coned-wheel provider: oracles that can fail."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lutmpi.contact.stiffness import hertz_ellipse
+from lutmpi.dynamics.contact_provider import ConedWheelProvider
+from lutmpi.dynamics.critical import (
+    linear_critical_speed,
+    linear_parameters,
+    max_real_part,
+    state_matrix,
+)
+from lutmpi.dynamics.simulate import classify, nadal_limit, simulate
+from lutmpi.dynamics.wheelset import WheelsetParams, contact_forces, hertz_fast, wheelset_rhs
+
+R0, B = 0.46, 0.75
+P = WheelsetParams()
+
+
+def _zero_crossing_period(t: np.ndarray, y: np.ndarray) -> float:
+    s = np.sign(y)
+    k = np.nonzero(s[1:] * s[:-1] < 0)[0]
+    tz = t[k] - y[k] * (t[k + 1] - t[k]) / (y[k + 1] - y[k])   # linear interpolation
+    return 2.0 * float(np.mean(np.diff(tz)))
+
+
+def test_no_creep_forces_at_rest():
+    """V -> 0 with zero rates (pure rolling spin V/r0 -> 0): every creep force vanishes, linearly
+    in V once V is below the creepage regularisation speed."""
+    prov = ConedWheelProvider(R0, 0.05, B)
+    g = prov.evaluate(3e-3, 0.01)
+    x = np.array([3e-3, 0.01, 0.0, 0.0, 0.0])
+
+    def peak(V: float) -> float:
+        f = contact_forces(x, V, P, g)
+        return float(max(np.max(np.abs(f.tangential)), np.max(np.abs(f.spin_moment))))
+
+    at_speed = peak(12.0)
+    assert at_speed > 1e3                      # the check can fail: forces exist at speed
+    assert peak(1e-6) < 1e-3 * at_speed
+    assert peak(1e-8) == pytest.approx(peak(1e-6) / 100, rel=1e-3)
+
+
+def test_centred_rolling_is_an_equilibrium():
+    prov = ConedWheelProvider(R0, 0.05, B)
+    dx = wheelset_rhs(0.0, np.zeros(5), 20.0, P, prov)
+    assert np.max(np.abs(dx[:4])) < 1e-9
+    # the spin moments of the coned contacts have a tiny component along the axle (< 1 N m)
+    assert abs(dx[4]) * P.I_yy < 1.0
+    f = contact_forces(np.zeros(5), 20.0, P, prov.evaluate(0.0, 0.0))
+    assert f.force[2] == pytest.approx(P.total_load, rel=1e-4)
+
+
+def test_mirror_symmetric_initial_conditions_give_mirror_responses():
+    prov = ConedWheelProvider(R0, 0.1, B)
+    a = simulate(prov, P, 15.0, 1.5, y0=1e-3, vy0=0.05, vyaw0=0.01, events=False)
+    b = simulate(prov, P, 15.0, 1.5, y0=-1e-3, vy0=-0.05, vyaw0=-0.01, events=False)
+    scale = np.max(np.abs(a.y))
+    assert np.max(np.abs(a.y + b.y)) < 1e-4 * scale
+    assert np.max(np.abs(a.yaw + b.yaw)) < 1e-4 * np.max(np.abs(a.yaw))
+    np.testing.assert_allclose(a.normal_force[:, 0], b.normal_force[:, 1], rtol=1e-6)
+    np.testing.assert_allclose(a.lateral_creep_force[:, 0], -b.lateral_creep_force[:, 1],
+                               atol=1e-4 * np.max(np.abs(a.lateral_creep_force)))
+
+
+def test_klingel_wavelength_without_gravitational_stiffness():
+    """Coned wheels, vertical normals (no gravitational stiffness): L = 2 pi sqrt(r0 b / lam)."""
+    lam, V = 0.1, 3.0
+    prov = ConedWheelProvider(R0, lam, B, gravitational=False)
+    r = simulate(prov, P, V, 25.0, y0=2e-3, vy0=0.0, events=False, dt_out=0.01)
+    klingel = 2 * math.pi * math.sqrt(R0 * B / lam)
+    assert _zero_crossing_period(r.t, r.y) * V == pytest.approx(klingel, rel=0.01)
+
+
+def test_gravitational_stiffness_of_coned_wheels_on_knife_edges():
+    """Virtual work: z_G = r0 + lam y^2 / (b - lam r0), so F_y = -2 W lam / (b - lam r0) y."""
+    lam = 0.05
+    lp = linear_parameters(ConedWheelProvider(R0, lam, B), P, amplitude=1e-3)
+    assert lp.k_gy == pytest.approx(2 * P.total_load * lam / (B - lam * R0), rel=0.01)
+    assert lp.lam_e == pytest.approx(lam, rel=1e-9)
+    assert lp.rho == pytest.approx(lam / B, rel=1e-6)
+
+
+def test_linear_free_wheelset_without_gravitational_stiffness_is_always_unstable():
+    lp = linear_parameters(ConedWheelProvider(R0, 0.05, B, gravitational=False), P)
+    assert lp.k_gy == pytest.approx(0.0, abs=1e-6)
+    assert all(max_real_part(lp, P, v) > 0 for v in (2.0, 10.0, 40.0))
+    # low-speed frequency is Klingel's
+    ev = np.linalg.eigvals(state_matrix(lp, P, 2.0))
+    w = np.max(np.abs(ev.imag))
+    assert 2 * math.pi * 2.0 / w == pytest.approx(2 * math.pi * math.sqrt(R0 * B / 0.05), rel=0.01)
+
+
+@pytest.mark.slow
+def test_linear_and_nonlinear_agree_on_the_critical_speed():
+    """1:20 cone: the nonlinear model is stable 10 % below the linear critical speed and hunts
+    10 % above it."""
+    prov = ConedWheelProvider(R0, 0.05, B)
+    lp = linear_parameters(prov, P)
+    vc = linear_critical_speed(lp, P).speed
+    assert 1.0 < vc < 50.0
+    kw = dict(vy0=0.005, events=False, rtol=1e-9, dt_out=0.02, max_step=0.05)
+    lo = simulate(prov, P, 0.9 * vc, 40.0, **kw)
+    hi = simulate(prov, P, 1.1 * vc, 40.0, **kw)
+    assert lo.summary.growth_rate < 0 < hi.summary.growth_rate
+
+
+def test_hertz_fast_matches_hertz_ellipse():
+    for kl, kt, n in [(1 / 0.46, 1 / 0.3, 5e4), (2.2, 0.05, 6e4), (2.2, 100.0, 1e4)]:
+        a, b = hertz_fast(np.array([kl]), np.array([kt]), np.array([n]), 206e9, 0.3)
+        ea, eb, _, _ = hertz_ellipse(kl, kt, 0.0, 0.0, n, 206e9, 0.3)
+        assert a[0] == pytest.approx(ea, rel=1e-4) and b[0] == pytest.approx(eb, rel=1e-4)
+
+
+def test_nadal_limit_and_classify():
+    assert nadal_limit(math.radians(70), 0.2) == pytest.approx(
+        (math.tan(math.radians(70)) - 0.2) / (1 + 0.2 * math.tan(math.radians(70))))
+    t = np.linspace(0, 10, 2001)
+    assert classify(t, np.exp(-0.3 * t) * np.sin(6 * t)).kind == "stable"
+    assert classify(t, np.exp(0.1 * t) * np.sin(6 * t)).kind == "hunting"
+    lc = classify(t, 3e-3 * np.sin(6 * t))
+    assert lc.kind == "hunting" and lc.amplitude == pytest.approx(3e-3, rel=0.01)
+
+
+def test_params_from_config_text():
+    p = WheelsetParams.from_toml_text('[material]\nyoung_GPa = 210.0\npoisson = 0.28\n'
+                                      '[wheel]\nnominal_radius_mm = 450.0\n')
+    assert (p.young, p.poisson, p.r0, p.mass, p.I_yy) == (210e9, 0.28, 0.45, 1595.0, 174.0)
