@@ -203,6 +203,39 @@ class TableProvider:
         self.calls = 0
         stored = getattr(table, "quantities", None)
         self.names = [k for k in RECORD_NAMES if stored is None or k in stored]
+        self._packed = self._pack()
+
+    def _pack(self) -> tuple[np.ndarray, list[tuple[str, tuple[int, ...], int]]] | None:
+        """All needed quantities as one (ny, nyaw, K) array: one bilinear step per evaluation
+        instead of one per quantity (``Table.interp`` loops over quantities)."""
+        if not (hasattr(self.table, "get") and self.y_axis is not None and self.y_axis.size > 1
+                and self.yaw_axis is not None and self.yaw_axis.size > 1):
+            return None
+        cols, layout, k = [], [], 0
+        for name in self.names:
+            arr = np.asarray(self.table.get(name, self.method), float)
+            suffix = arr.shape[2:]
+            flat = arr.reshape(arr.shape[:2] + (-1,))
+            cols.append(flat)
+            layout.append((name, suffix, k))
+            k += flat.shape[2]
+        return np.concatenate(cols, axis=2), layout
+
+    def _interp_packed(self, ys: np.ndarray, yaws: np.ndarray) -> dict[str, np.ndarray]:
+        data, layout = self._packed  # type: ignore[misc]
+        ya, wa = self.y_axis, self.yaw_axis
+        i = np.clip(np.searchsorted(ya, ys, side="right") - 1, 0, ya.size - 2)
+        j = np.clip(np.searchsorted(wa, yaws, side="right") - 1, 0, wa.size - 2)
+        u = ((ys - ya[i]) / (ya[i + 1] - ya[i]))[:, None]
+        v = ((yaws - wa[j]) / (wa[j + 1] - wa[j]))[:, None]
+        # NaN corners (a missing second contact) make the result NaN: the contact is inactive
+        val = ((1 - u) * (1 - v) * data[i, j] + u * (1 - v) * data[i + 1, j]
+               + (1 - u) * v * data[i, j + 1] + u * v * data[i + 1, j + 1])
+        out = {}
+        for name, suffix, k in layout:
+            size = int(np.prod(suffix)) if suffix else 1
+            out[name] = val[:, k:k + size].reshape((-1,) + suffix)
+        return out
 
     def _flange_angle(self) -> float:
         try:
@@ -221,7 +254,10 @@ class TableProvider:
         ys = np.array([y, y + h_y, y])
         yaws = np.array([yaw, yaw, yaw + h_yaw])
         self.calls += 1
-        rec = self.table.interp(ys, yaws, method=self.method, quantities=self.names)
+        if self._packed is not None:
+            rec = self._interp_packed(ys, yaws)
+        else:
+            rec = self.table.interp(ys, yaws, method=self.method, quantities=self.names)
         return geometry_from_records(y, yaw, rec, h_y, h_yaw)
 
 
