@@ -99,14 +99,16 @@ def test_linear_free_wheelset_without_gravitational_stiffness_is_always_unstable
 @pytest.mark.slow
 def test_linear_and_nonlinear_agree_on_the_critical_speed():
     """1:20 cone: the nonlinear model is stable 10 % below the linear critical speed and hunts
-    10 % above it."""
+    10 % above it. Both with linear creep: the Shen-Hedrick-Elkins law is not linear even at small
+    creepage (its slope is 1 - 2 beta/3), which alone moves this weakly damped boundary."""
     prov = ConedWheelProvider(R0, 0.05, B)
-    lp = linear_parameters(prov, P)
-    vc = linear_critical_speed(lp, P).speed
+    p = P.with_(saturation="none")
+    lp = linear_parameters(prov, p)
+    vc = linear_critical_speed(lp, p).speed
     assert 1.0 < vc < 50.0
     kw = dict(vy0=0.005, events=False, rtol=1e-9, dt_out=0.02, max_step=0.05)
-    lo = simulate(prov, P, 0.9 * vc, 40.0, **kw)
-    hi = simulate(prov, P, 1.1 * vc, 40.0, **kw)
+    lo = simulate(prov, p, 0.9 * vc, 40.0, **kw)
+    hi = simulate(prov, p, 1.1 * vc, 40.0, **kw)
     assert lo.summary.growth_rate < 0 < hi.summary.growth_rate
 
 
