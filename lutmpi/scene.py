@@ -56,7 +56,7 @@ class Scene:
         inclination: float = np.arctan(1 / 20),
         gauge: float = 1.435,
         gauge_depth: float = 0.014,
-        spacing: tuple[float, float, float, float] = (5e-4, 5e-4, 5e-4, 5e-4),
+        spacing: tuple[float, float, float, float] = (2.5e-4, 5e-4, 2.5e-4, 5e-4),
         equilibrium: EquilibriumOptions | None = None,
         settings: SolveSettings | None = None,
         flange_base_height: float = 0.002,

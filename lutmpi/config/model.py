@@ -78,12 +78,12 @@ class GridConfig:
 class MeshConfig:
     """Node spacings and the contact window (``[mesh]``)."""
 
-    wheel_lateral_mm: float = 0.5          # spacing along the wheel profile (lateral)
+    wheel_lateral_mm: float = 0.25         # arc-length spacing along the wheel profile
     wheel_circumferential_mm: float = 0.5  # arc spacing on the nominal radius
-    rail_lateral_mm: float = 0.5           # spacing along the rail profile
+    rail_lateral_mm: float = 0.25          # arc-length spacing along the rail profile
     rail_longitudinal_mm: float = 0.5      # spacing along the track
     window: bool = True                    # mesh only where contact can occur
-    window_gap_mm: float = 0.5             # slices whose rigid gap is within this of the minimum
+    window_gap_mm: float = 0.05            # window depth beyond the expected penetration
     window_margin_mm: float = 2.0          # extra margin around the window (both directions)
 
 
@@ -92,6 +92,7 @@ class ContactConfig:
     method: str = "load_centre"            # one of CONTACT_METHODS or "reference"
     allowed_indentation_mm: float = 0.01   # C_max^amm of eq. (9)
     max_contacts_per_wheel: int = 2        # §4.6 double contact
+    extrapolate: bool = True               # report the pose extrapolated to zero indentation
 
 
 @dataclass(frozen=True)
@@ -101,7 +102,7 @@ class EquilibriumConfig:
     spring_N_per_m: float = 1.0e7  # noqa: N815 -- k_el on x_g, z_g
     torsion_spring_Nm_per_rad: float = 1.0e7  # noqa: N815 -- k_rot on roll, pitch
     vertical_load_N: float = 1.0e5  # noqa: N815 -- load on the centre of mass (paper §6)
-    initial_kc_N_per_m: float = 1.0e9  # noqa: N815 -- k_c at step 2
+    initial_kc_N_per_m: float = 1.0e10  # noqa: N815 -- k_c at step 2
     max_kc_N_per_m: float = 1.0e16  # noqa: N815 (unit in the name)
     max_iterations: int = 60               # k_c levels x Newton steps budget
     # "newton" (line search + bracketing fallback) or "fixed_point"

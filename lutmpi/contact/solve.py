@@ -214,6 +214,7 @@ def _evaluator(scene, wins: dict[str, Window], method: str, rigid: RigidSolution
                     indentation=c.indentation,
                     factor=_flange_factor(scene, c.s),
                     data=c,
+                    nodes=c.n_wheel_nodes,
                 )
                 for c in cs
             ]
@@ -226,6 +227,8 @@ def _pose_from_equilibrium(scene, rigid: RigidSolution, method: str, out) -> Pos
     eq = scene.equilibrium
     z, roll = float(out.q[0]), float(out.q[1])
     G = np.array([0.0, rigid.y, z])
+    if out.q_extrapolated is not None:
+        z, roll = float(out.q_extrapolated[0]), float(out.q_extrapolated[1])
     F = np.zeros(3)
     M = np.zeros(3)
     res = PoseResult(

@@ -57,6 +57,7 @@ class EquilibriumOptions:
     rtol: float = 1.0e-7  # residual tolerance relative to the load
     qtol: float = 1.0e-7  # pose tolerance: Newton step / bracket width (m; rad x lever)
     target: float = 0.5  # aim the k_c update at this fraction of the allowed indentation
+    extrapolate: bool = True  # Richardson extrapolation of q to zero indentation
 
 
 @dataclass
@@ -68,6 +69,7 @@ class ContactForce:
     indentation: float  # m
     factor: float = 1.0  # flange factor f on k_c
     data: object = None  # the method's own contact record, passed through
+    nodes: int = 0  # mesh nodes that define this contact (0: a smooth, exact contact)
 
 
 @dataclass
@@ -81,9 +83,28 @@ class EquilibriumResult:
     indentation: float
     contacts: dict[str, list[ContactForce]] = field(default_factory=dict)
     residual: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    q_extrapolated: np.ndarray | None = None
 
 
 Evaluate = Callable[[np.ndarray], dict[str, list[ContactForce]]]
+
+
+def _expand(f: Callable[[float], float], lo: float, hi: float,
+            tries: int = 30) -> tuple[float, float]:
+    """Widen [lo, hi] until the decreasing function ``f`` changes sign (f(lo) >= 0 >= f(hi));
+    each end is evaluated only when it moves. Raises ValueError when no bracket is found."""
+    flo, fhi = f(lo), f(hi)
+    for _ in range(tries):
+        if flo >= 0 >= fhi:
+            return lo, hi
+        width = hi - lo
+        if flo < 0:
+            lo, hi, fhi = lo - 4 * width, lo, flo
+            flo = f(lo)
+        else:
+            lo, hi, flo = hi, hi + 4 * width, fhi
+            fhi = f(hi)
+    raise ValueError("no bracket")
 
 
 class Equilibrium:
@@ -169,8 +190,11 @@ class Equilibrium:
                     break
                 lam *= 0.5
             if float(np.sum(self.scaled(Rn) ** 2)) >= f0:
-                # no descent along the Newton direction: the mesh indentation jumps here
-                return q, False, R, cs
+                # no descent along the Newton direction: the mesh indentation jumps here.
+                # Accept when the residual is within the node resolution of the contacts (a
+                # node entering a volume of n nodes moves its force by ~1/n)
+                ok = self._small(dq, self.noise_tol())
+                return q, ok, R, cs
             q, R, J, cs = qn, Rn, Jn, csn
         return q, False, R, cs
 
@@ -178,29 +202,27 @@ class Equilibrium:
         """Largest Newton step (m; rad x lever): a few penetration depths at this k_c."""
         return 3.0 * self.opts.load / (kc * self.fmin) + 1e-6
 
-    def _small(self, dq: np.ndarray) -> bool:
-        return abs(dq[0]) <= self.opts.qtol and abs(dq[1]) * self.lever <= self.opts.qtol
+    def noise_tol(self) -> float:
+        """Pose resolution accepted where the mesh indentation jumps (m): 5 % of the allowed
+        indentation, i.e. well below the mesh's own error."""
+        return max(self.opts.qtol, 0.05 * self.opts.allowed_indentation)
+
+    def _small(self, dq: np.ndarray, tol: float | None = None) -> bool:
+        tol = self.opts.qtol if tol is None else tol
+        return abs(dq[0]) <= tol and abs(dq[1]) * self.lever <= tol
 
     def bracketing(self, q: np.ndarray, kc: float):
         """Nested Brent: z_g from the (monotone) vertical residual for each roll, the roll from
         the (monotone) roll residual. Converges to the pose even where the residual jumps."""
         o = self.opts
-        span = 0.25 * self.step_cap(kc)
+        span = 4.0 * self.noise_tol()   # Newton stalled within a few noise widths of the root
         z_last = [q[0]]
 
         def z_of(roll: float) -> float:
             def fz(z: float) -> float:
                 return self.residual(np.array([z, roll]), kc)[0][0]
 
-            lo, hi = z_last[0] - span, z_last[0] + span
-            for _ in range(40):
-                flo, fhi = fz(lo), fz(hi)
-                if flo >= 0 >= fhi:
-                    break
-                if flo < 0:
-                    lo -= 4 * (hi - lo)
-                if fhi > 0:
-                    hi += 4 * (hi - lo)
+            lo, hi = _expand(fz, z_last[0] - span, z_last[0] + span)
             z_last[0] = brentq(fz, lo, hi, xtol=o.qtol, rtol=4 * np.finfo(float).eps)
             return z_last[0]
 
@@ -209,17 +231,7 @@ class Equilibrium:
             return self.residual(np.array([z, roll]), kc)[0][1]
 
         span_r = span / self.lever
-        lo, hi = q[1] - span_r, q[1] + span_r
-        for _ in range(40):
-            flo, fhi = froll(lo), froll(hi)
-            if flo >= 0 >= fhi:
-                break
-            if flo < 0:
-                lo -= 4 * (hi - lo)
-            if fhi > 0:
-                hi += 4 * (hi - lo)
-        else:
-            return q, False
+        lo, hi = _expand(froll, q[1] - span_r, q[1] + span_r)
         roll = brentq(froll, lo, hi, xtol=o.qtol / self.lever, rtol=4 * np.finfo(float).eps)
         return np.array([z_of(roll), roll]), True
 
@@ -262,12 +274,23 @@ class Equilibrium:
             if any(len(v) == 0 for v in cs.values()):
                 return self._result(q, False, NO_CONTACT, kc, cmax, cs, R)
             if cmax <= o.allowed_indentation:
-                return self._result(q, True, CONVERGED, kc, cmax, cs, R)
+                out = self._result(q, True, CONVERGED, kc, cmax, cs, R)
+                if o.extrapolate:
+                    out.q_extrapolated = self.extrapolate(q, kc)
+                return out
             # step 8: raise k_c; aim the indentation at a fraction of the allowed one
             kc *= float(np.clip(cmax / (o.target * o.allowed_indentation), 2.0, 1e3))
             if kc > o.kc_max:
                 return self._result(q, False, KC_LIMIT, kc, cmax, cs, R)
         return self._result(q, False, MAX_ITER, kc, cmax, cs, R)
+
+    def extrapolate(self, q: np.ndarray, kc: float) -> np.ndarray | None:
+        """Pose at zero indentation: with ``q(k) = q* + a/k`` (linear penalty, fixed contact
+        geometry), ``q* = 2 q(k) - q(k/2)``. The auxiliary solve at ``k/2`` starts from ``q``."""
+        qh, ok, _, cs = self.solve_at(q, 0.5 * kc)
+        if not ok or any(len(v) == 0 for v in cs.values()):
+            return None
+        return 2.0 * np.asarray(q) - qh
 
     def _result(self, q, success, status, kc, cmax, cs, R) -> EquilibriumResult:
         return EquilibriumResult(
