@@ -1,0 +1,59 @@
+"""``lutmpi solve``: poses in, one CSV row per pose out; bad pose files name file and line."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+
+from lutmpi.cli import main
+from lutmpi.contact.poses import read_poses
+from lutmpi.errors import ConfigError
+
+ROOT = Path(__file__).resolve().parents[2]
+CONFIG = ROOT / "configs" / "paper_s1002_uic60_1in20.toml"
+
+
+def test_solve_writes_one_row_per_pose_with_units(tmp_path):
+    poses = tmp_path / "p.csv"
+    poses.write_text("y_mm,yaw_rad\n0,0\n-3,0.05\n")
+    out = tmp_path / "o.csv"
+    rc = main(["solve", str(CONFIG), "--poses", str(poses), "--pose", "4", "-0.02",
+               "--method", "reference", "-o", str(out)])
+    assert rc == 0
+    rows = list(csv.DictReader(out.open()))
+    assert [float(r["y_mm"]) for r in rows] == [0.0, -3.0, 4.0]
+    for col in ("z_g_mm", "roll_rad", "left_wheel_s_mm", "right_contact_angle_rad",
+                "left_rolling_radius_mm", "right_x_mm", "left_n_contacts", "status"):
+        assert col in rows[0]
+    assert all(r["status"] == "0" for r in rows)
+    # symmetry of the centred pose: equal rolling radii, zero roll
+    r0 = rows[0]
+    assert float(r0["roll_rad"]) == pytest.approx(0.0, abs=1e-12)
+    assert float(r0["left_rolling_radius_mm"]) == pytest.approx(
+        float(r0["right_rolling_radius_mm"]), abs=1e-9)
+    # a lateral shift to the right (y < 0) rolls the wheelset toward the right
+    assert float(rows[1]["roll_rad"]) < 0 < float(rows[2]["roll_rad"])
+
+
+@pytest.mark.parametrize("text, match", [
+    ("y,yaw\n0,0\n", "header lacks"),
+    ("y_mm,yaw_rad\n0,abc\n", "line 2"),
+    ("y_mm,yaw_rad\n0,0\n1\n", "line 3"),
+    ("y_mm,yaw_rad\n500,0\n", "out of range"),
+    ("y_mm,yaw_rad\nnan,0\n", "out of range"),
+    ("y_mm,yaw_rad\n", "no poses"),
+    ("", "no header"),
+])
+def test_bad_pose_files_name_file_and_line(tmp_path, text, match):
+    f = tmp_path / "bad.csv"
+    f.write_text(text)
+    with pytest.raises(ConfigError, match=match) as exc:
+        read_poses(f)
+    assert str(f) in str(exc.value)
+
+
+def test_missing_pose_file_is_a_clear_error(tmp_path):
+    rc = main(["solve", str(CONFIG), "--poses", str(tmp_path / "nope.csv")])
+    assert rc == 1
