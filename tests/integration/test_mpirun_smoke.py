@@ -6,6 +6,7 @@ Serial tier (not under tests/mpi/, where pytest-mpi treats every test as an MPI 
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -14,8 +15,9 @@ import pytest
 
 from lutmpi.parallel.mpi import mpirun_env
 
-HELLO = ("from mpi4py import MPI; c = MPI.COMM_WORLD; "
-         "print(f'hello {c.rank} of {c.size} sum={c.allreduce(c.rank)}', flush=True)")
+HELLO = ("import sys; from mpi4py import MPI; c = MPI.COMM_WORLD; "
+         "sys.stdout.write(f'hello {c.rank} of {c.size} sum={c.allreduce(c.rank)}\\n'); "
+         "sys.stdout.flush()")
 
 
 def _mpirun(n: int, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
@@ -34,9 +36,10 @@ def _mpirun(n: int, *args: str, timeout: float = 120) -> subprocess.CompletedPro
 def test_every_rank_runs_and_communicates(n):
     res = _mpirun(n, "-c", HELLO)
     assert res.returncode == 0, res.stderr
-    lines = sorted(line for line in res.stdout.splitlines() if line.startswith("hello"))
+    # mpirun forwards each rank's output in chunks that may interleave: match, don't split lines
+    seen = sorted(re.findall(r"hello (\d+) of (\d+) sum=(\d+)", res.stdout))
     total = n * (n - 1) // 2
-    assert lines == sorted(f"hello {r} of {n} sum={total}" for r in range(n)), res.stdout
+    assert seen == sorted((str(r), str(n), str(total)) for r in range(n)), res.stdout
 
 
 def test_collective_hdf5_self_check_under_mpirun(tmp_path):
