@@ -128,8 +128,6 @@ class Window:
     m: np.ndarray
     body_pts: np.ndarray
     body_nrm: np.ndarray
-    k_edges: tuple[int, int]  # first/last slice of the window
-    m_edges: dict[int, tuple[int, int]]  # per slice: first/last angle index
     rail_l: np.ndarray
     rail_j: np.ndarray
     rail_pts: np.ndarray  # (n, 3) track frame
@@ -191,24 +189,37 @@ def build_window(
         vgap[ok] = tp[ok, 2] - rail.height(u[ok])
         ok &= vgap <= gmin + depth
     k, m, pts, nrm, tp = k[ok], m[ok], pts[ok], nrm[ok], tp[ok]
-    m_edges: dict[int, tuple[int, int]] = {}
-    for kk, lo, hi in zip(ks, mc - mh, mc + mh, strict=True):
-        m_edges[int(kk)] = (int(lo), int(hi))
     rl, rj, rp, rn = _rail_box(side, rmesh, tp, with_rail)
+    if with_rail and not full and rl.size:
+        keep = _under_wheel_window(side, wmesh, k, m, rp, centre, R)
+        rl, rj, rp, rn = rl[keep], rj[keep], rp[keep], rn[keep]
     return Window(
         side=side,
         k=k,
         m=m,
         body_pts=pts,
         body_nrm=nrm,
-        k_edges=(int(ks.min()), int(ks.max())) if ks.size else (0, -1),
-        m_edges=m_edges,
         rail_l=rl,
         rail_j=rj,
         rail_pts=rp,
         rail_nrm=rn,
         gap=depth,
     )
+
+
+def _under_wheel_window(side: float, wmesh: WheelMesh, k: np.ndarray, m: np.ndarray,
+                        rail_pts: np.ndarray, centre: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """Mask of the rail nodes whose nearest wheel node is (next to) a window node: only those
+    can lie inside the wheel, since a rail node inside the wheel faces a wheel node inside the
+    rail."""
+    c = (rail_pts - centre) @ R
+    kk = wmesh.nearest_slice(side * c[:, 1], np.hypot(c[:, 0], c[:, 2]))
+    mm = np.round(np.arctan2(c[:, 0], -c[:, 2]) / wmesh.dphi).astype(np.int64)
+    big = np.int64(1) << 32
+    d = np.array([-1, 0, 1])
+    keys = ((k[:, None, None] + d[None, :, None]).astype(np.int64) * big
+            + (m[:, None, None] + d[None, None, :])).ravel()
+    return np.isin(kk.astype(np.int64) * big + mm, keys)
 
 
 def _rail_box(

@@ -33,6 +33,9 @@ from lutmpi.equilibrium.solver import ContactForce, Equilibrium
 from lutmpi.geometry.pose import wheelset_rotation
 
 SIDE_SIGN = {"left": 1.0, "right": -1.0}
+# d(indentation)/d(approach) of each method: the load centre's C of eq. (7) is the mean
+# separation of the two caps, half the peak interpenetration for paraboloidal caps
+INDENTATION_RATE = {"max_distance": 1.0, "max_normal_distance": 1.0, "load_centre": 0.5}
 METHOD_NAMES = ("max_distance", "max_normal_distance", "load_centre", "reference")
 
 
@@ -215,6 +218,7 @@ def _evaluator(scene, wins: dict[str, Window], method: str, rigid: RigidSolution
                     factor=_flange_factor(scene, c.s),
                     data=c,
                     nodes=c.n_wheel_nodes,
+                    rate=INDENTATION_RATE[method],
                 )
                 for c in cs
             ]

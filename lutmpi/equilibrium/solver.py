@@ -70,6 +70,7 @@ class ContactForce:
     factor: float = 1.0  # flange factor f on k_c
     data: object = None  # the method's own contact record, passed through
     nodes: int = 0  # mesh nodes that define this contact (0: a smooth, exact contact)
+    rate: float = 1.0  # dC/d(approach): 1 for a point indentation, 1/2 for a load-centre mean
 
 
 @dataclass
@@ -140,24 +141,42 @@ class Equilibrium:
 
     # -- residual and Jacobian -------------------------------------------------------------
     def residual(self, q: np.ndarray, kc: float) -> tuple[np.ndarray, np.ndarray, dict]:
+        """Residual (2,), Jacobian (2, 2) and the contacts at ``q`` for contact stiffness ``kc``."""
+        R, J, contacts, _ = self._residual(q, kc, rated=False)
+        return R, J, contacts
+
+    def _residual(self, q: np.ndarray, kc: float, rated: bool = True):
+        """``rated=False`` takes every indentation rate as 1: Newton then under-steps for the
+        load-centre contacts (rate 1/2) and approaches the root monotonically, which is what a
+        residual that jumps needs; the extrapolation uses the rated Jacobian."""
         self.nit += 1
         contacts = self.evaluate(q)
         o = self.opts
-        G = np.array([0.0, self.y, q[0]])
-        R = np.array([-o.load - o.k_el * (q[0] - self.q0[0]), -o.k_rot * (q[1] - self.q0[1])])
-        J = -np.diag([o.k_el, o.k_rot])
+        w0, w1 = self.axis[0], self.axis[1]
+        rz = -o.load - o.k_el * (q[0] - self.q0[0])
+        rr = -o.k_rot * (q[1] - self.q0[1])
+        fz = fr = 0.0            # contact part of the residual
+        j00 = j01 = j10 = j11 = 0.0
         for cs in contacts.values():
             for c in cs:
                 k = kc * c.factor
-                rho = c.point - G
-                w = self.axis
-                wxr = np.array([w[1] * rho[2] - w[2] * rho[1], w[2] * rho[0] - w[0] * rho[2],
-                                w[0] * rho[1] - w[1] * rho[0]])
-                nz = c.normal[2]
-                a = np.array([nz, nz * wxr[2]])
-                R += k * c.indentation * a
-                J -= k * np.outer(a, np.array([nz, float(c.normal @ wxr)]))
-        return R, J, contacts
+                px, py, pz = c.point[0], c.point[1] - self.y, c.point[2] - q[0]
+                nx, ny, nz = c.normal
+                # w x rho for the roll axis w = (w0, w1, 0)
+                wx, wy, wz = w1 * pz, -w0 * pz, w0 * py - w1 * px
+                a0, a1 = nz, nz * wz                 # force directions in (R_z, R_roll)
+                b0, b1 = nz, nx * wx + ny * wy + nz * wz   # -dC/dq
+                f = k * c.indentation
+                fz += f * a0
+                fr += f * a1
+                kr = k * c.rate if rated else k
+                j00 += kr * a0 * b0
+                j01 += kr * a0 * b1
+                j10 += kr * a1 * b0
+                j11 += kr * a1 * b1
+        R = np.array([rz + fz, rr + fr])
+        J = np.array([[-j00 - o.k_el, -j01], [-j10, -j11 - o.k_rot]])
+        return R, J, contacts, np.array([fz, fr])
 
     def scaled(self, R: np.ndarray) -> np.ndarray:
         return R / np.array([self.opts.load, self.opts.load * self.lever])
@@ -284,13 +303,16 @@ class Equilibrium:
                 return self._result(q, False, KC_LIMIT, kc, cmax, cs, R)
         return self._result(q, False, MAX_ITER, kc, cmax, cs, R)
 
-    def extrapolate(self, q: np.ndarray, kc: float) -> np.ndarray | None:
-        """Pose at zero indentation: with ``q(k) = q* + a/k`` (linear penalty, fixed contact
-        geometry), ``q* = 2 q(k) - q(k/2)``. The auxiliary solve at ``k/2`` starts from ``q``."""
-        qh, ok, _, cs = self.solve_at(q, 0.5 * kc)
-        if not ok or any(len(v) == 0 for v in cs.values()):
-            return None
-        return 2.0 * np.asarray(q) - qh
+    def extrapolate(self, q: np.ndarray, kc: float) -> np.ndarray:
+        """Pose at zero indentation. With the penalty solution ``q(k) = q* + a/k`` (linear in
+        the indentation, contact geometry fixed), ``q* = q + k dq/dk`` and, from
+        ``R(q(k), k) = 0``, ``k dq/dk = -J^-1 F_c`` with ``F_c`` the contact part of the
+        residual: one linear solve at the converged state, no further contact evaluation."""
+        _, J, _, fc = self._residual(q, kc)
+        try:
+            return np.asarray(q) - np.linalg.solve(J, fc)
+        except np.linalg.LinAlgError:
+            return np.asarray(q)
 
     def _result(self, q, success, status, kc, cmax, cs, R) -> EquilibriumResult:
         return EquilibriumResult(
