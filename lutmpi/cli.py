@@ -16,7 +16,8 @@ from lutmpi.errors import LutmpiError
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="lutmpi",
-        description="Wheel-rail contact lookup tables built with MPI (Bozzone, Pennestri, Salvini 2011).")
+        description="Wheel-rail contact lookup tables built with MPI "
+                    "(Bozzone, Pennestri, Salvini 2011).")
     parser.add_argument("--version", action="version", version=f"lutmpi {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")

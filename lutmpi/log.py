@@ -1,4 +1,6 @@
-"""Rank-aware logging, configured once by the CLI. Library code uses ``logging.getLogger(__name__)``."""
+"""Rank-aware logging, configured once by the CLI.
+
+Library code uses ``logging.getLogger(__name__)``."""
 
 from __future__ import annotations
 

@@ -67,7 +67,8 @@ class Profile:
         y = np.asarray(self.y, dtype=float)
         z = np.asarray(self.z, dtype=float)
         if self.kind not in ("wheel", "rail"):
-            raise ProfileError(f"kind must be 'wheel' or 'rail', got {self.kind!r}", path=self.source)
+            raise ProfileError(f"kind must be 'wheel' or 'rail', got {self.kind!r}",
+                               path=self.source)
         if y.ndim != 1 or y.shape != z.shape:
             raise ProfileError(f"y and z must be 1-D of equal length, got {y.shape} and {z.shape}",
                                path=self.source)
@@ -79,7 +80,8 @@ class Profile:
         if np.any(dy <= 0):
             k = int(np.argmax(dy <= 0))
             raise ProfileError(
-                f"y must be strictly increasing (a function of y): point {k + 1} at y = {y[k + 1]:.6g} m "
+                f"y must be strictly increasing (a function of y): point {k + 1} at "
+                f"y = {y[k + 1]:.6g} m "
                 f"follows y = {y[k]:.6g} m", path=self.source)
         y.setflags(write=False)
         z.setflags(write=False)
