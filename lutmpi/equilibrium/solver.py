@@ -218,8 +218,9 @@ class Equilibrium:
         return q, False, R, cs
 
     def step_cap(self, kc: float) -> float:
-        """Largest Newton step (m; rad x lever): a few penetration depths at this k_c."""
-        return 3.0 * self.opts.load / (kc * self.fmin) + 1e-6
+        """Largest Newton step (m; rad x lever): tens of penetration depths at this k_c (a
+        steep flange contact is soft vertically: ~n_z^2 = 0.1 of its normal stiffness)."""
+        return 30.0 * self.opts.load / (kc * self.fmin) + 1e-5
 
     def noise_tol(self) -> float:
         """Pose resolution accepted where the mesh indentation jumps (m): 5 % of the allowed
@@ -245,14 +246,21 @@ class Equilibrium:
             z_last[0] = brentq(fz, lo, hi, xtol=o.qtol, rtol=4 * np.finfo(float).eps)
             return z_last[0]
 
+        memo: dict[float, tuple[float, float]] = {}
+
         def froll(roll: float) -> float:
-            z = z_of(roll)
-            return self.residual(np.array([z, roll]), kc)[0][1]
+            # memoized: z_of is warm-started, so with a residual that jumps a second call at
+            # the same roll could land on another root and break the bracket
+            if roll not in memo:
+                z = z_of(roll)
+                memo[roll] = (z, self.residual(np.array([z, roll]), kc)[0][1])
+            return memo[roll][1]
 
         span_r = span / self.lever
         lo, hi = _expand(froll, q[1] - span_r, q[1] + span_r)
         roll = brentq(froll, lo, hi, xtol=o.qtol / self.lever, rtol=4 * np.finfo(float).eps)
-        return np.array([z_of(roll), roll]), True
+        froll(roll)
+        return np.array([memo[roll][0], roll]), True
 
     def fixed_point(self, q: np.ndarray, kc: float, max_iter: int = 200):
         """The paper's step 5 read literally: q <- q0 + (contact forces - W) / springs."""
