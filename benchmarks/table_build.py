@@ -14,8 +14,8 @@ solver through). The figures printed:
 * ``speed-up``: total(1 rank) / total(N ranks).
 
 Then, from the 1-rank table's per-point costs, the imbalance (max rank load / mean rank load)
-the cyclic and the block split would give for 2..64 ranks: the measurement behind the choice of
-the cyclic split.
+each split (scattered, cyclic, block) and an ideal dynamic hand-out would give for 2..64 ranks:
+the measurement behind the choice of the split.
 """
 
 from __future__ import annotations
@@ -61,8 +61,15 @@ def point_costs(path: Path) -> tuple[np.ndarray, float, int]:
 
 
 def imbalance(cost: np.ndarray, size: int, how: str) -> float:
+    """Max rank load / mean rank load of a static split, or of an ideal dynamic hand-out
+    (``how="dynamic"``: each point, in flat order, to the rank that is free first; no overhead)."""
     flat = cost.ravel()
-    loads = np.array([flat[split(flat.size, size, r, how)].sum() for r in range(size)])
+    if how == "dynamic":
+        loads = np.zeros(size)
+        for c in flat:
+            loads[np.argmin(loads)] += c
+    else:
+        loads = np.array([flat[split(flat.size, size, r, how)].sum() for r in range(size)])
     return float(loads.max() / loads.mean())
 
 
@@ -71,7 +78,12 @@ def main() -> None:
     p.add_argument("config")
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--solver", default=None, help="module:function test solver hook")
+    p.add_argument("--costs-from", default=None, metavar="TABLE",
+                   help="only print the split analysis for the compute_time of an existing table")
     args = p.parse_args()
+    if args.costs_from:
+        analyse(point_costs(Path(args.costs_from))[0])
+        return
     extra = ["--solver", args.solver] if args.solver else []
     tmp = Path(tempfile.mkdtemp(prefix="lutmpi-bench-"))
     rows, base = [], None
@@ -85,15 +97,20 @@ def main() -> None:
               f"{cost.size} points, per point {cost.mean() * 1e3:8.2f} ms "
               f"(max {cost.max() * 1e3:.1f} ms), efficiency {cost.sum() / (ranks * wall):6.1%}, "
               f"speed-up {base / total:5.2f}", flush=True)
-    cost = rows[0][3]
+    analyse(rows[0][3])
+
+
+def analyse(cost: np.ndarray) -> None:
+    """Print the cost profile over rows and the imbalance of each split."""
     ny = cost.shape[0]
     by_row = cost.mean(axis=1)
     print(f"cost per row (y): min {by_row.min() * 1e3:.1f} ms, max {by_row.max() * 1e3:.1f} ms, "
           f"ratio {by_row.max() / by_row.min():.1f}; rows {ny}")
     for size in (2, 4, 8, 16, 32, 64):
         if size <= cost.size:
-            cyc, blk = imbalance(cost, size, "cyclic"), imbalance(cost, size, "block")
-            print(f"  split over {size:2d} ranks: imbalance cyclic {cyc:.3f}, block {blk:.3f}")
+            print(f"  {size:2d} ranks, imbalance: " + ", ".join(
+                f"{how} {imbalance(cost, size, how):.3f}"
+                for how in ("scattered", "cyclic", "block", "dynamic")))
 
 
 if __name__ == "__main__":

@@ -31,7 +31,8 @@ def register(subparsers: Any) -> None:
     # Test/debug hooks: a solver 'module:function' (optionally with make_scene(config) in the same
     # module) replaces the production solver; the split of points over ranks.
     p.add_argument("--solver", default=None, help=argparse.SUPPRESS)
-    p.add_argument("--split", default="cyclic", choices=("cyclic", "block"), help=argparse.SUPPRESS)
+    p.add_argument("--split", default="dynamic",
+                   choices=("dynamic", "scattered", "cyclic", "block"), help=argparse.SUPPRESS)
     p.set_defaults(func=run)
 
 

@@ -2,10 +2,14 @@
 
 Two splits are used by the table build:
 
-* the **compute split** is *cyclic* over the flat point list (point ``k`` of the work list goes to
-  rank ``k % size``). Flange points (large ``|y|``) cost several times a tread point and sit in
-  whole rows of the grid; a cyclic deal gives every rank the same mix of rows, so the work is
-  balanced to within one point whatever the cost profile across rows (see BENCHMARKS.md).
+* the **compute split** deals the points still to do over the ranks. Measured per-point costs of
+  the solver (``benchmarks/table_build.py``, BENCHMARKS.md) are not smooth: most points cost
+  0.1-2 s but a few cost ~100x more, and they come in mirror pairs (y, yaw) / (-y, -yaw). A plain
+  cyclic deal of the row-major flat index puts both points of every mirror pair on the same rank
+  when the grid has an odd number of points and 2 ranks (k and N-1-k have the same parity), the
+  worst case; blocks depend on where the costly rows fall. The default, **scattered**, deals a
+  fixed pseudo-random permutation cyclically: counts balanced to one point, and the costly points
+  spread independently of the grid's symmetry. ``cyclic`` and ``block`` remain selectable.
 * the **write split** is in *blocks of rows* (:func:`block_range` over ``ny``): every rank owns a
   contiguous hyperslab of the file and writes it collectively.
 
@@ -16,7 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
-SPLITS = ("cyclic", "block")
+SPLITS = ("scattered", "cyclic", "block")
+#: fixed seed of the scattered split: the split is part of no result, but keep runs reproducible
+SCATTER_SEED = 20110101
 
 
 def block_range(n: int, size: int, rank: int) -> tuple[int, int]:
@@ -38,8 +44,20 @@ def cyclic_indices(n: int, size: int, rank: int) -> np.ndarray:
     return np.arange(rank, n, size, dtype=np.int64)
 
 
-def split(n: int, size: int, rank: int, how: str = "cyclic") -> np.ndarray:
+def scattered_indices(n: int, size: int, rank: int, seed: int = SCATTER_SEED) -> np.ndarray:
+    """Cyclic deal of a fixed pseudo-random permutation of ``range(n)``; sorted, int64.
+
+    Counts per rank are those of :func:`cyclic_indices` (balanced to one item); which items a rank
+    gets is decorrelated from the grid's structure (see the module docstring).
+    """
+    cyclic = cyclic_indices(n, size, rank)
+    return np.sort(np.random.default_rng(seed).permutation(n)[cyclic]).astype(np.int64)
+
+
+def split(n: int, size: int, rank: int, how: str = "scattered") -> np.ndarray:
     """Positions in ``range(n)`` handled by ``rank`` with the split ``how`` (see :data:`SPLITS`)."""
+    if how == "scattered":
+        return scattered_indices(n, size, rank)
     if how == "cyclic":
         return cyclic_indices(n, size, rank)
     if how == "block":

@@ -6,9 +6,11 @@ Flow (every rank runs it; ``comm=None`` means one process):
 2. Rank 0 decides alone (output checks, metadata, the scene) and broadcasts the value *or the
    exception*; every rank then raises the same error, nobody waits in a barrier.
 3. The partial file ``<out>.partial`` is created (or, with ``resume``, read back) collectively.
-4. The points still to do are dealt cyclically over the ranks and solved in chunks; after each chunk
-   the ranks agree (rank 0's clock) whether to checkpoint: results travel to the rank owning their
-   rows and every rank writes its row block collectively.
+4. The points still to do are handed out one at a time from a counter every rank advances
+   atomically (``workqueue``; static splits on request) and solved with no communication
+   at all; each rank checkpoints its own points into the partial file (independent raw-data
+   writes) every ``checkpoint_interval_s``. At the end the results travel to the rank owning their
+   rows (one ``alltoall``) and every rank writes its row block collectively.
 5. ``complete`` is set last, rank 0 renames the partial file to the output path.
 
 Any exception after step 2 on any rank is logged with the rank (and the grid point when a solve
@@ -21,11 +23,10 @@ from __future__ import annotations
 
 import json
 import logging
-import math
 import os
 import subprocess
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -38,6 +39,7 @@ from lutmpi.config.model import ALL_METHODS, Config
 from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import ConfigError
 from lutmpi.parallel import partition
+from lutmpi.parallel.workqueue import make_counter
 from lutmpi.table import h5io
 from lutmpi.table.compute import Records, Solver, compute_points, default_solver
 from lutmpi.table.grid import Grid
@@ -45,8 +47,8 @@ from lutmpi.table.schema import SCHEMA_VERSION, select_fields
 
 log = logging.getLogger(__name__)
 
-#: chunks per rank between two agreements on checkpoint/progress
-N_CHUNKS = 20
+#: a rank looks at the clock (checkpoint, progress) this many times over its points, at most
+N_STEPS = 200
 PROGRESS_EVERY_S = 10.0
 
 
@@ -142,7 +144,7 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
                 solver: Solver | None = None, force: bool = False, resume: bool = False,
                 methods: Sequence[str] | None = None,
                 scene_factory: Callable[[Config], Any] | None = None,
-                checkpoint_interval_s: float = 60.0, split: str = "cyclic") -> BuildSummary:
+                checkpoint_interval_s: float = 60.0, split: str = "dynamic") -> BuildSummary:
     """Build the lookup table of ``config`` into ``output_path``.
 
     Parameters
@@ -165,9 +167,10 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
     scene_factory : callable, optional
         ``scene_factory(config) -> scene``; default :meth:`lutmpi.scene.Scene.from_config`.
     checkpoint_interval_s : float
-        Minimum time between two checkpoints of the partial file (the last chunk always writes).
-    split : {"cyclic", "block"}
-        How the remaining points are dealt to ranks.
+        Minimum time between two checkpoints of a rank's points into the partial file.
+    split : {"dynamic", "scattered", "cyclic", "block"}
+        How the remaining points are dealt to ranks: handed out one at a time from a shared
+        counter (default; see :mod:`lutmpi.parallel.workqueue`) or a static split.
 
     Returns
     -------
@@ -252,52 +255,63 @@ def _run(comm: Any, config: Config, out: Path, grid: Grid, methods: tuple[str, .
     state = _State(row_start, row_count, blocks,
                    done[row_start:row_start + row_count].astype(np.uint8))
     todo = np.flatnonzero(~done.ravel())
-    mine = todo[partition.split(len(todo), comm.size, comm.rank, split)]
-    busy = _compute_all(comm, grid, plan["scene"], methods, fields, solver, state, mine,
-                        len(todo), interval, partial)
+    f = h5io.open_rw(partial, comm)
+    busy = _compute_all(comm, f, grid, plan["scene"], methods, fields, solver, state,
+                        _batches(comm, todo, split), len(todo), interval)
+    _exchange(comm, grid, state)
+    h5io.write_blocks(f, comm, state.row_start, state.blocks, state.done_rows)
     log.debug("computed and written at %.3f s", time.perf_counter() - t_start)
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
-    h5io.finalize(partial, comm, {"ranks": comm.size, "wall_time_s": wall,
-                                  "created_utc": plan["created_utc"]})
+    h5io.finalize(f, {"ranks": comm.size, "wall_time_s": wall, "created_utc": plan["created_utc"]})
     comm.Barrier()
     _root_decides(comm, lambda: os.replace(partial, out))
     return _summarize(comm, out, grid, state, busy, len(todo), wall)
 
 
-def _compute_all(comm: Any, grid: Grid, scene: Any, methods: tuple[str, ...], fields: Any,
-                 solver: Solver, state: _State, mine: np.ndarray, n_todo: int, interval: float,
-                 partial: Path) -> float:
-    max_local = math.ceil(n_todo / comm.size)
-    chunk = max(1, math.ceil(max_local / N_CHUNKS))
-    n_chunks = math.ceil(max_local / chunk)
-    busy, done_global = 0.0, 0
-    t0 = last_flush = time.perf_counter()
-    last_log = [t0]
+def _batches(comm: Any, todo: np.ndarray, how: str) -> Iterator[tuple[np.ndarray, int]]:
+    """This rank's points, in batches, each with an estimate of the global count handed out.
 
-    def local_progress(i: int) -> None:
-        # between agreements only rank 0's own count is known: scale it by the number of ranks
-        now = time.perf_counter()
-        if comm.rank == 0 and now - last_log[0] >= PROGRESS_EVERY_S:
-            _log_progress(min(done_global + i * comm.size, n_todo), n_todo, now - t0, "~")
-            last_log[0] = now
+    ``"dynamic"``: one point at a time from a counter shared by all ranks (no rank waits for
+    another); the static splits of :mod:`lutmpi.parallel.partition` otherwise.
+    """
+    if how == "dynamic":
+        counter = make_counter(comm)
+        try:
+            while (k := counter.next()) < len(todo):
+                yield todo[k:k + 1], k + 1
+        finally:
+            counter.free()
+        return
+    mine = todo[partition.split(len(todo), comm.size, comm.rank, how)]
+    step = max(1, len(mine) // N_STEPS)
+    for start in range(0, len(mine), step):
+        yield mine[start:start + step], min((start + step) * comm.size, len(todo))
 
-    for c in range(n_chunks):
-        points = mine[c * chunk:(c + 1) * chunk]
-        records, spent = compute_points(scene, grid, points, methods, solver, fields,
-                                        on_point=local_progress)
+
+def _compute_all(comm: Any, f: Any, grid: Grid, scene: Any, methods: tuple[str, ...],
+                 fields: Any, solver: Solver, state: _State,
+                 batches: Iterator[tuple[np.ndarray, int]], n_todo: int,
+                 interval: float) -> float:
+    """Solve this rank's points without waiting for any other rank; checkpoint them into the
+    partial file independently every ``interval`` seconds. Rank 0 logs the estimated global
+    progress."""
+    busy = 0.0
+    t0 = last_flush = last_log = time.perf_counter()
+    unflushed: list[tuple[np.ndarray, Records]] = []
+    for points, handed_out in batches:
+        records, spent = compute_points(scene, grid, points, methods, solver, fields)
         busy += spent
         state.pending.append((points, records))
-        done_global += comm.allreduce(len(points))
+        unflushed.append((points, records))
         now = time.perf_counter()
-        last = c == n_chunks - 1
-        flush = comm.bcast(last or now - last_flush >= interval, root=0)
-        if flush:
-            _exchange(comm, grid, state)
-            h5io.write_checkpoint(partial, comm, state.row_start, state.blocks, state.done_rows)
+        if now - last_flush >= interval:
+            for pts, recs in unflushed:
+                h5io.write_points(f, grid, pts, recs)
+            unflushed.clear()
             last_flush = now
-        if comm.rank == 0 and (last or now - last_log[0] >= PROGRESS_EVERY_S):
-            _log_progress(done_global, n_todo, now - t0)
-            last_log[0] = now
+        if comm.rank == 0 and now - last_log >= PROGRESS_EVERY_S:
+            _log_progress(handed_out, n_todo, now - t0, "~")
+            last_log = now
     return busy
 
 

@@ -10,9 +10,10 @@ Writing strategy
   with an empty selection (h5py's high-level ``__setitem__`` may skip the call, hence ``dset.id``).
 * One rank -> a plain serial file, no ``mpio`` driver.
 * The build writes ``<out>.partial`` (fixed name, so ``--resume`` can find it), with a per-point
-  ``/done`` mask; the file is opened and closed at each checkpoint so a killed job leaves a
-  readable file. On success ``/done`` is removed, ``complete`` set last, and the file renamed to
-  the output path by rank 0.
+  ``/done`` mask. During compute each rank checkpoints its own points with *independent* writes of
+  raw data only (no rank waits for another; the metadata, written when the file was created, never
+  changes, so a killed job leaves a readable file). At the end every rank writes its row block
+  collectively; ``/done`` is removed, ``complete`` set last, and rank 0 renames the file.
 """
 
 from __future__ import annotations
@@ -158,15 +159,35 @@ def _par(comm: Any) -> bool:
     return comm is not None and comm.size > 1
 
 
-def write_checkpoint(path: Path, comm: Any, row_start: int,
-                     blocks: dict[str, dict[str, np.ndarray]], done_rows: np.ndarray) -> None:
-    """Write this rank's row block of every dataset and of ``/done`` (collective), then close."""
+def open_rw(path: Path, comm: Any) -> h5py.File:
+    """Open a partial file for the build (collective with several ranks)."""
+    return _open(path, "r+", comm)
+
+
+def write_points(f: h5py.File, grid: Grid, points: np.ndarray,
+                 records: dict[str, dict[str, np.ndarray]]) -> None:
+    """Checkpoint: write computed points and their ``/done`` flags, *independently* (no other
+    rank takes part). Only raw data of datasets allocated at creation is written, so the file's
+    metadata never changes and a killed job leaves it readable."""
+    iy, iyaw = grid.ij(np.asarray(points))
+    for method in sorted(records):
+        group = f[method]
+        for name in sorted(records[method]):
+            dset, values = group[name], records[method][name]
+            for i in range(len(points)):
+                dset[iy[i], iyaw[i]] = values[i]
+    for i in range(len(points)):
+        f[DONE][iy[i], iyaw[i]] = 1
+
+
+def write_blocks(f: h5py.File, comm: Any, row_start: int,
+                 blocks: dict[str, dict[str, np.ndarray]], done_rows: np.ndarray) -> None:
+    """Write this rank's row block of every dataset and of ``/done`` (collective)."""
     dxpl = _dxpl(_par(comm))
-    with _open(path, "r+", comm) as f:
-        for method in sorted(blocks):
-            for name in sorted(blocks[method]):
-                write_rows(f[method][name], row_start, blocks[method][name], dxpl)
-        write_rows(f[DONE], row_start, done_rows, dxpl)
+    for method in sorted(blocks):
+        for name in sorted(blocks[method]):
+            write_rows(f[method][name], row_start, blocks[method][name], dxpl)
+    write_rows(f[DONE], row_start, done_rows, dxpl)
 
 
 def check_partial(path: Path, methods: Sequence[str], fields: Sequence[Field],
@@ -203,13 +224,14 @@ def read_rows(path: Path, row_start: int, row_count: int, methods: Sequence[str]
         return {m: {fld.name: f[m][fld.name][rows] for fld in fields} for m in methods}
 
 
-def finalize(path: Path, comm: Any, attrs: dict[str, Any]) -> None:
-    """Drop ``/done``, set the run attributes and, last, ``complete = True`` (collective)."""
-    with _open(path, "r+", comm) as f:
-        del f[DONE]
-        for key, value in attrs.items():
-            f.attrs[key] = value
-        f.attrs["complete"] = True
+def finalize(f: h5py.File, attrs: dict[str, Any]) -> None:
+    """Drop ``/done``, set the run attributes and, last, ``complete = True``, then close
+    (collective)."""
+    del f[DONE]
+    for key, value in attrs.items():
+        f.attrs[key] = value
+    f.attrs["complete"] = True
+    f.close()
 
 
 def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:

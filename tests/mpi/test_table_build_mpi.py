@@ -37,7 +37,7 @@ def _both(cfg: Config, path, split: str):
     return par, ser
 
 
-@pytest.mark.parametrize("split", ["cyclic", "block"])
+@pytest.mark.parametrize("split", ["dynamic", "scattered", "cyclic", "block"])
 def test_parallel_build_equals_serial(mpi_tmp_path, split):
     par, ser = _both(_config(7, 5), mpi_tmp_path, split)
     assert differences(par, ser) == []
@@ -47,5 +47,5 @@ def test_parallel_build_equals_serial(mpi_tmp_path, split):
 
 def test_ranks_without_rows_still_write_collectively(mpi_tmp_path):
     """One grid row: every rank but 0 owns no row of the file and takes part with empty writes."""
-    par, ser = _both(_config(1, 3), mpi_tmp_path, "cyclic")
+    par, ser = _both(_config(1, 3), mpi_tmp_path, "dynamic")
     assert differences(par, ser) == []

@@ -12,6 +12,7 @@ import time
 import h5py
 import pytest
 
+from lutmpi.parallel.partition import split
 from tests.support.tables import build, datasets, differences, root_attrs, write_config
 
 pytestmark = [pytest.mark.timeout(120),
@@ -29,11 +30,12 @@ def reference(tmp_path_factory):
     return cfg, out
 
 
-@pytest.mark.parametrize("ranks", [2, 3, 4])
-def test_n_ranks_equal_one_rank_bit_for_bit(reference, tmp_path, ranks):
+@pytest.mark.parametrize(("ranks", "how"), [(2, "dynamic"), (3, "dynamic"), (4, "dynamic"),
+                                               (2, "scattered"), (3, "block")])
+def test_n_ranks_equal_one_rank_bit_for_bit(reference, tmp_path, ranks, how):
     cfg, ref = reference
-    out = tmp_path / f"n{ranks}.h5"
-    res = build(cfg, out, ranks, "--checkpoint-interval", "0")
+    out = tmp_path / f"n{ranks}-{how}.h5"
+    res = build(cfg, out, ranks, "--checkpoint-interval", "0", "--split", how)
     assert res.returncode == 0, res.stderr
     assert differences(ref, out) == []
     assert root_attrs(out)["ranks"] == ranks
@@ -51,16 +53,25 @@ def test_more_ranks_than_rows_and_points(tmp_path):
     assert differences(one, three) == []
 
 
+def test_dynamic_rank_raising_ends_job(reference, tmp_path):
+    cfg, _ = reference
+    out = tmp_path / "t.h5"
+    res = build(cfg, out, 3, timeout=60, LUTMPI_FAULT="raise@-6.0/0.12")
+    assert res.returncode != 0 and "failed: RuntimeError: injected fault" in res.stderr
+    assert "iy=1, iyaw=4" in res.stderr and not out.exists()
+
+
 def test_rank_raising_mid_build_ends_job_fast_and_names_the_point(reference, tmp_path):
     cfg, _ = reference
     out = tmp_path / "t.h5"
     t0 = time.monotonic()
-    # y = 3 mm, yaw = 0.06 rad is flat point 4 * 5 + 3 = 23: rank 1 of 2 under the cyclic split
-    res = build(cfg, out, 2, timeout=60, LUTMPI_FAULT="raise@3.0/0.06")
+    # y = 3 mm, yaw = 0.06 rad is flat point 4 * 5 + 3 = 23
+    owner = [r for r in range(2) if 23 in split(35, 2, r, "cyclic")][0]
+    res = build(cfg, out, 2, "--split", "cyclic", timeout=60, LUTMPI_FAULT="raise@3.0/0.06")
     elapsed = time.monotonic() - t0
     assert res.returncode != 0
     assert elapsed < 30, elapsed
-    assert "rank 1/2 failed" in res.stderr
+    assert f"rank {owner}/2 failed" in res.stderr
     assert "iy=4, iyaw=3" in res.stderr and "y=3 mm" in res.stderr
     assert not out.exists()
 

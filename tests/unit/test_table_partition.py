@@ -8,7 +8,7 @@ import pytest
 from lutmpi.parallel.partition import block_range, cyclic_indices, owner_of_rows, split
 
 
-@pytest.mark.parametrize("how", ["block", "cyclic"])
+@pytest.mark.parametrize("how", ["block", "cyclic", "scattered"])
 def test_every_split_covers_without_overlap_and_balances(how):
     for n in range(1, 41):
         for size in range(1, 51):
