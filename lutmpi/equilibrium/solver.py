@@ -146,9 +146,10 @@ class Equilibrium:
         return R, J, contacts
 
     def _residual(self, q: np.ndarray, kc: float, rated: bool = True):
-        """``rated=False`` takes every indentation rate as 1: Newton then under-steps for the
-        load-centre contacts (rate 1/2) and approaches the root monotonically, which is what a
-        residual that jumps needs; the extrapolation uses the rated Jacobian."""
+        """``rated=False`` is Newton's Jacobian: rates are moved halfway to 1, so Newton
+        under-steps a little for the load-centre contacts (rate 1/2) and approaches the root
+        from one side, which is what a residual that jumps needs; the extrapolation uses the
+        rated Jacobian."""
         self.nit += 1
         contacts = self.evaluate(q)
         o = self.opts
@@ -169,7 +170,7 @@ class Equilibrium:
                 f = k * c.indentation
                 fz += f * a0
                 fr += f * a1
-                kr = k * c.rate if rated else k
+                kr = k * (c.rate if rated else 0.5 * (1.0 + c.rate))
                 j00 += kr * a0 * b0
                 j01 += kr * a0 * b1
                 j10 += kr * a1 * b0
