@@ -262,10 +262,12 @@ def _run(comm: Any, config: Config, out: Path, grid: Grid, methods: tuple[str, .
     h5io.write_blocks(f, comm, state.row_start, state.blocks, state.done_rows)
     log.debug("computed and written at %.3f s", time.perf_counter() - t_start)
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
-    h5io.finalize(f, {"ranks": comm.size, "wall_time_s": wall, "created_utc": plan["created_utc"]})
+    busy_all = np.asarray(comm.bcast(comm.gather(busy, root=0), root=0), dtype=float)
+    h5io.finalize(f, {"ranks": comm.size, "wall_time_s": wall, "created_utc": plan["created_utc"],
+                      "rank_busy_s": busy_all})
     comm.Barrier()
     _root_decides(comm, lambda: os.replace(partial, out))
-    return _summarize(comm, out, grid, state, busy, len(todo), wall)
+    return _summarize(comm, out, grid, state, busy_all, len(todo), wall)
 
 
 def _batches(comm: Any, todo: np.ndarray, how: str) -> Iterator[tuple[np.ndarray, int]]:
@@ -343,14 +345,13 @@ def _exchange(comm: Any, grid: Grid, state: _State) -> None:
             state.done_rows[rows, iyaw] = 1
 
 
-def _summarize(comm: Any, out: Path, grid: Grid, state: _State, busy: float, computed: int,
-               wall: float) -> BuildSummary:
+def _summarize(comm: Any, out: Path, grid: Grid, state: _State, busy_all: np.ndarray,
+               computed: int, wall: float) -> BuildSummary:
     counts = np.zeros(len(STATUS), dtype=np.int64)
     for rec in state.blocks.values():
         codes = rec["status"].ravel().astype(np.int64)
         counts += np.bincount(codes[(codes >= 0) & (codes < len(STATUS))], minlength=len(STATUS))
     counts = comm.allreduce(counts)
-    busy_all = comm.bcast(comm.gather(busy, root=0), root=0)
     names = {code: text.split(":")[0] for code, text in STATUS.items()}
     summary = BuildSummary(output=out, points=grid.n_points, computed=computed,
                            reused=grid.n_points - computed,

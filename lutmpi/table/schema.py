@@ -3,7 +3,8 @@
 Layout of a table file (HDF5)::
 
     /                    root attributes: config_toml, lutmpi_version, git_commit, created_utc,
-                         ranks, wall_time_s, schema_version, complete, methods, quantities
+                         ranks, wall_time_s, rank_busy_s, schema_version, complete, methods,
+                         quantities
     /y        (ny,)      m    lateral shift y_g of the wheelset (dimension scale)
     /yaw      (nyaw,)    rad  yaw angle theta_z (dimension scale)
     /<method>/<name>     one group per contact method (``load_centre``, ``reference``, ...),
@@ -34,7 +35,7 @@ CONTACT_SUFFIX = (len(SIDES), N_SLOTS)
 #: datasets whose values depend on timing, not on the numerics (excluded from parity checks)
 TIMING_FIELDS = ("compute_time",)
 #: root attributes that depend on the run, not on the numerics
-RUN_ATTRIBUTES = ("created_utc", "ranks", "wall_time_s", "git_commit")
+RUN_ATTRIBUTES = ("created_utc", "ranks", "wall_time_s", "rank_busy_s", "git_commit")
 
 
 @dataclass(frozen=True)
