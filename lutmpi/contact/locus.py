@@ -91,7 +91,7 @@ def compute_locus(
     u = side * pts[:, 1]
     inside = (u >= rail.u_min) & (u <= rail.u_max)
     gap = np.full(u.shape, np.inf)
-    gap[inside] = pts[inside, 2] - rail.height(u[inside])
+    gap[inside] = pts[inside, 2] - rail.height_fast(u[inside])
     return Locus(side=side, s=s, phi=phi, points=pts, u=u, gap=gap)
 
 
@@ -202,22 +202,45 @@ class LocusSolver:
         _, gmin = _parabolic_min(loc.gap, int(np.argmin(loc.gap)))
         return -gmin, loc
 
-    def heights(self, y: float, yaw: float, roll: float) -> tuple[float, float]:
-        """Touching heights (left, right) for this roll, both sides in one vectorized pass."""
+    def heights(self, y: float, yaw: float, roll: float,
+                sub: np.ndarray | None = None) -> tuple[float, float]:
+        """Touching heights (left, right) for this roll, both sides in one vectorized pass;
+        ``sub`` restricts the samples (indices into the two concatenated sides)."""
         R = wheelset_rotation(yaw, roll)
         n = self.samp.s.size
-        side = self._side2
-        phi = locus_angles(side, self._dr2, R)
-        pts = wheel_points_body(side, self._s2, self._r2, phi, self.wheel.d) @ R.T
+        idx = np.arange(2 * n) if sub is None else sub
+        side = self._side2[idx]
+        phi = locus_angles(side, self._dr2[idx], R)
+        pts = wheel_points_body(side, self._s2[idx], self._r2[idx], phi, self.wheel.d) @ R.T
         pts[:, 1] += y
         u = side * pts[:, 1]
         inside = (u >= self.rail.u_min) & (u <= self.rail.u_max)
         gap = np.full(u.shape, np.inf)
-        gap[inside] = pts[inside, 2] - self.rail.height(u[inside])
-        gl, gr = gap[:n], gap[n:]
+        gap[inside] = pts[inside, 2] - self.rail.height_fast(u[inside])
+        left = idx < n
+        gl, gr = gap[left], gap[~left]
+        if gl.size == 0 or gr.size == 0:
+            return -np.inf, -np.inf
         _, ml = _parabolic_min(gl, int(np.argmin(gl)))
         _, mr = _parabolic_min(gr, int(np.argmin(gr)))
+        self._last_gap = gap
         return -ml, -mr
+
+    def _candidates(self, gap: np.ndarray, band: float = 5e-4, half: int = 30) -> np.ndarray:
+        """Indices (both sides concatenated) near every local gap minimum within ``band`` of
+        its side's smallest: the only samples that can hold the minimum for small roll changes."""
+        n = self.samp.s.size
+        out = []
+        for off in (0, n):
+            g = gap[off:off + n]
+            mins = local_minima(g)
+            if mins.size == 0:
+                out.append(off + np.arange(n))
+                continue
+            mins = mins[g[mins] <= np.min(g[mins]) + band]
+            i = (mins[:, None] + np.arange(-half, half + 1)[None, :]).ravel()
+            out.append(off + np.unique(np.clip(i, 0, n - 1)))
+        return np.concatenate(out)
 
     def solve(
         self, y: float, yaw: float, xtol: float = 1e-13, max_secant: int = 12
@@ -226,27 +249,42 @@ class LocusSolver:
 
         Secant iteration on the height mismatch ``h(roll) = z_left - z_right`` from a lever-arm
         estimate; Brent's method on a bracket whenever the secant stalls (contact-point jumps
-        make ``h`` piecewise smooth)."""
+        make ``h`` piecewise smooth). The iterations use only the samples near the gap minima
+        found on the whole profile; the result is checked on the whole profile and solved again
+        if the minimum moved elsewhere (a contact jump)."""
         nit = 0
+        sub: list[np.ndarray | None] = [None]
 
         def h(roll: float) -> float:
             nonlocal nit
             nit += 1
-            zl, zr = self.heights(y, yaw, roll)
+            zl, zr = self.heights(y, yaw, roll, sub[0])
             return zl - zr
 
-        x0, f0 = 0.0, h(0.0)
+        f0 = h(0.0)
         if not np.isfinite(f0):
-            return RigidSolution(
-                y,
-                yaw,
-                np.nan,
-                np.nan,
-                False,
-                "a wheel has no contact candidate on its rail at zero roll",
-                nit,
-            )
-        x1 = f0 / (2.0 * self.wheel.d)
+            return RigidSolution(y, yaw, np.nan, np.nan, False,
+                                 "a wheel has no contact candidate on its rail at zero roll", nit)
+        roll = 0.0
+        for _ in range(3):
+            sub[0] = self._candidates(self._last_gap)
+            roll = self._solve_roll(h, roll, xtol, max_secant)
+            if roll is None:
+                return RigidSolution(y, yaw, np.nan, np.nan, False,
+                                     "no roll brackets the two-point contact (wheel off the rail?)",
+                                     nit)
+            part = self.heights(y, yaw, roll, sub[0])
+            full = self.heights(y, yaw, roll)
+            nit += 2
+            if abs(part[0] - full[0]) <= 1e-12 and abs(part[1] - full[1]) <= 1e-12:
+                break
+        return self.finish(y, yaw, roll, nit)
+
+    def _solve_roll(self, h, roll0: float, xtol: float, max_secant: int) -> float | None:
+        x0, f0 = roll0, h(roll0)
+        if not np.isfinite(f0):
+            return self._bracketed(h, [], xtol)
+        x1 = x0 + f0 / (2.0 * self.wheel.d)
         f1 = h(x1)
         pts = [(x0, f0), (x1, f1)]
         for _ in range(max_secant):
@@ -257,19 +295,8 @@ class LocusSolver:
             f1 = h(x1)
             pts.append((x1, f1))
             if abs(x1 - x0) <= xtol or f1 == 0.0:
-                return self.finish(y, yaw, x1, nit)
-        roll = self._bracketed(h, pts, xtol)
-        if roll is None:
-            return RigidSolution(
-                y,
-                yaw,
-                np.nan,
-                np.nan,
-                False,
-                "no roll brackets the two-point contact (wheel off the rail?)",
-                nit,
-            )
-        return self.finish(y, yaw, roll, nit)
+                return x1
+        return self._bracketed(h, pts, xtol)
 
     @staticmethod
     def _bracketed(h, pts: list[tuple[float, float]], xtol: float) -> float | None:

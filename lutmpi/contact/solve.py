@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from lutmpi.contact.locus import LocusSampling, RigidSolution, compute_locus
+from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.mesh import Window, build_window
 from lutmpi.contact.methods import (
     NEEDS_RAIL_NODES,
@@ -137,12 +137,13 @@ def _reference_result(scene, rigid: RigidSolution, method: str) -> PoseResult:
 
 # -- mesh methods ---------------------------------------------------------------------------
 def _flange_factor(scene, s: float) -> float:
+    """k_c factor of §4.5 at wheel profile coordinate ``s`` (1 on the tread)."""
     st = scene.settings
     if not st.flange or s >= 0.0:  # the flange is on the s < 0 side of the tape circle
         return 1.0
-    return float(
-        flange_kc_scale(scene.wheel.radius(s), st.flange_base_radius, st.flange_tip_radius, st.chi)
-    )
+    samp = scene.locus.samp
+    r = float(np.interp(s, samp.s, samp.r))
+    return float(flange_kc_scale(r, st.flange_base_radius, st.flange_tip_radius, st.chi))
 
 
 def _windows(
@@ -151,21 +152,18 @@ def _windows(
     wm, rm = scene.wheel_mesh, scene.rail_mesh
     centre = np.array([0.0, rigid.y, rigid.z_g])
     R = wheelset_rotation(rigid.yaw, rigid.roll)
-    samp = LocusSampling(s=wm.s, r=wm.r, dr=wm.dr)
     out = {}
     for name, side in SIDE_SIGN.items():
-        loc = compute_locus(side, samp, scene.wheel, scene.rail, centre, R)
+        # the locus at the rigid pose, sampled every 0.1 mm, interpolated at the mesh slices
+        # (window selection only: the interpolation error is a few nm of gap)
+        loc = rigid.loci[name]
+        phi = np.interp(wm.s, loc.s, loc.phi)
+        gap = np.interp(wm.s, loc.s, np.where(np.isfinite(loc.gap), loc.gap, 1.0))
+        gap[(wm.s < loc.s[0]) | (wm.s > loc.s[-1])] = np.inf
+        gap[gap >= 1.0] = np.inf
         out[name] = build_window(
-            side,
-            wm,
-            rm,
-            centre,
-            R,
-            loc.phi,
-            loc.gap,
-            depth,
-            with_rail=method in NEEDS_RAIL_NODES,
-            full=full,
+            side, wm, rm, centre, R, phi, gap, depth,
+            with_rail=method in NEEDS_RAIL_NODES, full=full,
         )
     return out
 
