@@ -86,7 +86,28 @@ def _add_show(sub: argparse._SubParsersAction) -> None:
 
 
 #: ``profile`` sub-subcommands: each adds its parser (with ``set_defaults(func=...)``).
-SUBCOMMANDS: list[Callable[[argparse._SubParsersAction], None]] = [_add_show]
+def _add_plot(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("plot", help="both wheels on both rails, to scale (PNG)",
+                       description="Draw the wheelset of CONFIG on its rails at its rigid contact "
+                                   "pose for lateral shift --y-mm (yaw 0), to scale, with close-ups.")
+    p.add_argument("config", help="run configuration (TOML)")
+    p.add_argument("--y-mm", type=float, default=0.0, help="lateral shift of the wheelset (mm)")
+    p.add_argument("-o", "--output", default="track.png", help="output PNG")
+    p.set_defaults(func=_run_plot)
+
+
+def _run_plot(args: argparse.Namespace) -> int:
+    from lutmpi.config import load_config
+    from lutmpi.reports.track_plot import plot_track
+    from lutmpi.scene import Scene
+
+    scene = Scene.from_config(load_config(args.config))
+    out = plot_track(scene, args.output, y=args.y_mm * 1e-3)
+    print(f"wrote {out}")
+    return 0
+
+
+SUBCOMMANDS: list[Callable[[argparse._SubParsersAction], None]] = [_add_show, _add_plot]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
