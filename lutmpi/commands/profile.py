@@ -88,8 +88,9 @@ def _add_show(sub: argparse._SubParsersAction) -> None:
 #: ``profile`` sub-subcommands: each adds its parser (with ``set_defaults(func=...)``).
 def _add_plot(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("plot", help="both wheels on both rails, to scale (PNG)",
-                       description="Draw the wheelset of CONFIG on its rails at its rigid contact "
-                                   "pose for lateral shift --y-mm (yaw 0), to scale, with close-ups.")
+                       description="Draw the wheelset of CONFIG on its rails at its rigid "
+                                   "contact pose for lateral shift --y-mm (yaw 0), to scale, "
+                                   "with close-ups.")
     p.add_argument("config", help="run configuration (TOML)")
     p.add_argument("--y-mm", type=float, default=0.0, help="lateral shift of the wheelset (mm)")
     p.add_argument("-o", "--output", default="track.png", help="output PNG")

@@ -63,7 +63,8 @@ def plot_track(scene, out: str | Path, y: float = 0.0, title: str | None = None)
     for ax, name in ((axl, "left"), (axr, "right")):
         ax.set_ylim(-45, 25)
         cs = res.contacts[name]
-        txt = ", ".join(f"s = {c.wheel_s * 1e3:.2f} mm, angle {c.contact_angle:.3f} rad" for c in cs)
+        txt = ", ".join(f"s = {c.wheel_s * 1e3:.2f} mm, angle {c.contact_angle:.3f} rad"
+                        for c in cs)
         ax.set_title(f"{name}: {txt}", fontsize=9)
     fig.tight_layout()
     out = Path(out)
