@@ -9,6 +9,8 @@ import os
 from typing import Any
 
 log = logging.getLogger(__name__)
+# set by mpirun (Open MPI), Hydra/PMI-2, PMIx and srun: only then is MPI initialised
+_LAUNCHER_VARS = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "SLURM_PROCID")
 
 
 def register(subparsers: Any) -> None:
@@ -55,9 +57,12 @@ def run(args: argparse.Namespace) -> int:
     from lutmpi.parallel.runner import build_table
 
     comm = None
-    if int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("PMI_SIZE", "1"))) > 1:
-        require_parallel_h5py()
+    if any(key in os.environ for key in _LAUNCHER_VARS):
         comm = get_comm()
+        if comm.size > 1:
+            require_parallel_h5py()   # fail early and clearly, on every rank alike
+        else:
+            comm = None
     config = load_config(args.config)
     solver = scene_factory = None
     if args.solver:
