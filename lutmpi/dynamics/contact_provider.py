@@ -21,6 +21,7 @@ moment.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -167,98 +168,146 @@ def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray
     return active.astype(float)
 
 
-def _steps(y: float, yaw: float, y_axis: np.ndarray | None, yaw_axis: np.ndarray | None,
-           h_y: float, h_yaw: float) -> tuple[float, float]:
-    """One-sided steps that stay inside the table range (step backwards at the upper edge)."""
-    if y_axis is not None and y + h_y > y_axis[-1]:
-        h_y = -h_y
-    if yaw_axis is not None and yaw + h_yaw > yaw_axis[-1]:
-        h_yaw = -h_yaw
-    return h_y, h_yaw
-
-
 class TableProvider:
     """Contact geometry by bilinear interpolation in a lookup table.
+
+    The hot path is one small matrix product: every quantity the dynamics reads is packed at
+    construction into one ``(ny, nyaw, 2K)`` array -- the K values with NaN replaced by 0, then K
+    NaN indicators -- so an evaluation is: locate the cell (``bisect`` on Python lists), four
+    bilinear weights, ``w @ corners`` for all 2K columns at once, and the z_g/roll slopes as the
+    cell's analytic derivatives (exactly what a difference step inside the cell gives). A value
+    whose stencil gives a NaN node a non-zero weight is NaN, as in :meth:`lutmpi.table.Table.interp`
+    (the NaN indicator interpolates to > 0 exactly then).
 
     Parameters
     ----------
     table : object
-        An open table with ``interp(y, yaw, method=None) -> dict[name, ndarray]`` (vectorised over
-        points) and, optionally, axes ``y`` and ``yaw`` (clip range) -- :class:`lutmpi.table.Table`.
+        An open table with ``get(name, method)``, axes ``y``, ``yaw`` (increasing, at least two
+        nodes each) and ``quantities`` -- :class:`lutmpi.table.Table`.
     method : str or None
         Contact method group of the table (``None``: the table's default).
-    h_y, h_yaw : float
-        Difference steps for the slopes, m and rad. Inside one cell of a bilinear table the slope
-        does not depend on the step, so a small step gives the cell's own slope.
     """
 
-    def __init__(self, table: Any, method: str | None = None, h_y: float = 1e-6,
-                 h_yaw: float = 1e-6) -> None:
+    def __init__(self, table: Any, method: str | None = None) -> None:
         self.table = table
         self.method = method
-        self.h_y, self.h_yaw = h_y, h_yaw
-        self.y_axis = np.asarray(getattr(table, "y", None)) if hasattr(table, "y") else None
-        self.yaw_axis = np.asarray(getattr(table, "yaw", None)) if hasattr(table, "yaw") else None
-        self.flange_angle = self._flange_angle()
-        self.calls = 0
+        self.y_axis = np.asarray(table.y, float)
+        self.yaw_axis = np.asarray(table.yaw, float)
+        if self.y_axis.size < 2 or self.yaw_axis.size < 2:
+            raise ValueError(f"TableProvider needs at least 2 x 2 grid nodes, got "
+                             f"{self.y_axis.size} x {self.yaw_axis.size}")
+        self._ylist, self._wlist = self.y_axis.tolist(), self.yaw_axis.tolist()
         stored = getattr(table, "quantities", None)
         self.names = [k for k in RECORD_NAMES if stored is None or k in stored]
-        self._packed = self._pack()
+        self.flange_angle = self._flange_angle()
+        self.calls = 0
+        self._data, self._fields, self._f = self._pack()
+        self._k = self._data.shape[2] // 2
 
-    def _pack(self) -> tuple[np.ndarray, list[tuple[str, tuple[int, ...], int]]] | None:
-        """All needed quantities as one (ny, nyaw, K) array: one bilinear step per evaluation
-        instead of one per quantity (``Table.interp`` loops over quantities)."""
-        if not (hasattr(self.table, "get") and self.y_axis is not None and self.y_axis.size > 1
-                and self.yaw_axis is not None and self.yaw_axis.size > 1):
-            return None
-        cols, layout, k = [], [], 0
-        for name in self.names:
-            arr = np.asarray(self.table.get(name, self.method), float)
-            suffix = arr.shape[2:]
-            flat = arr.reshape(arr.shape[:2] + (-1,))
-            cols.append(flat)
-            layout.append((name, suffix, k))
-            k += flat.shape[2]
-        return np.concatenate(cols, axis=2), layout
+    def _pack(self) -> tuple[np.ndarray, dict[str, slice], int]:
+        """``(ny, nyaw, 2K)``: cleaned values then NaN indicators, K = 4 F + 3.
 
-    def _interp_packed(self, ys: np.ndarray, yaws: np.ndarray) -> dict[str, np.ndarray]:
-        data, layout = self._packed  # type: ignore[misc]
-        ya, wa = self.y_axis, self.yaw_axis
-        i = np.clip(np.searchsorted(ya, ys, side="right") - 1, 0, ya.size - 2)
-        j = np.clip(np.searchsorted(wa, yaws, side="right") - 1, 0, wa.size - 2)
-        u = ((ys - ya[i]) / (ya[i + 1] - ya[i]))[:, None]
-        v = ((yaws - wa[j]) / (wa[j + 1] - wa[j]))[:, None]
-        # NaN corners (a missing second contact) make the result NaN: the contact is inactive
-        val = ((1 - u) * (1 - v) * data[i, j] + u * (1 - v) * data[i + 1, j]
-               + (1 - u) * v * data[i, j + 1] + u * v * data[i + 1, j + 1])
-        out = {}
-        for name, suffix, k in layout:
-            size = int(np.prod(suffix)) if suffix else 1
-            out[name] = val[:, k:k + size].reshape((-1,) + suffix)
-        return out
+        The first ``4 F`` columns are the per-contact fields as a ``(2, 2, F)`` block (side,
+        slot, field: wheel point xyz, normal xyz, then the scalar fields, then an "inactive"
+        indicator, 1 where a node lacks any of the fields that define a contact); then z_g, roll,
+        x_g. Returns the array, ``name -> slice of the field axis`` and F.
+        """
+        get = lambda name: np.asarray(self.table.get(name, self.method), float)  # noqa: E731
+        ny, na = self.y_axis.size, self.yaw_axis.size
+        per = [n for n in self.names if n not in _SCALARS]
+        blocks, fields, f = [], {}, 0
+        for name in per:
+            arr = get(name).reshape(ny, na, 2, 2, -1)
+            fields[name] = slice(f, f + arr.shape[-1])
+            blocks.append(arr)
+            f += arr.shape[-1]
+        pc = np.concatenate(blocks, axis=-1)
+        lacking = np.zeros((ny, na, 2, 2), bool)
+        for name in _DEFINING:
+            lacking |= ~np.isfinite(pc[..., fields[name]]).all(axis=-1)
+        fields["_inactive"] = slice(f, f + 1)
+        pc = np.concatenate([pc, lacking[..., None] * 1.0], axis=-1)
+        f += 1
+        scal = np.stack([get(n) if n in self.names else np.zeros((ny, na)) for n in _SCALARS], -1)
+        v = np.concatenate([pc.reshape(ny, na, -1), scal], axis=2)
+        nan = ~np.isfinite(v)
+        data = np.concatenate([np.where(nan, 0.0, v), nan * 1.0], axis=2)
+        return np.ascontiguousarray(data), fields, f
 
     def _flange_angle(self) -> float:
-        try:
-            data = self.table.get("contact_angle", self.method)
-            return float(np.nanmax(data))
-        except Exception:  # noqa: BLE001 - an optional accessor; fall back to S1002's 70 deg
-            return math.radians(70.0)
+        if "contact_angle" not in self.names:
+            return math.radians(70.0)   # S1002's flange angle
+        return float(np.nanmax(self.table.get("contact_angle", self.method)))
+
+    def _cell(self, y: float, yaw: float) -> tuple[int, int, float, float, float, float]:
+        ya, wa = self._ylist, self._wlist
+        i = min(bisect.bisect_right(ya, y) - 1, len(ya) - 2)
+        j = min(bisect.bisect_right(wa, yaw) - 1, len(wa) - 2)
+        dy, dw = ya[i + 1] - ya[i], wa[j + 1] - wa[j]
+        return i, j, (y - ya[i]) / dy, (yaw - wa[j]) / dw, dy, dw
+
+    def interp_vector(self, y: float, yaw: float) -> np.ndarray:
+        """One bilinear step for everything at a pose inside the grid: rows (value, d/dy per m,
+        d/dyaw per rad) of the packed columns (values, then NaN indicators), shape ``(3, 2K)``."""
+        i, j, u, v, dy, dw = self._cell(y, yaw)
+        c = self._data[i:i + 2, j:j + 2].reshape(4, -1)     # corners 00, 01, 10, 11
+        w = np.array([[(1 - u) * (1 - v), (1 - u) * v, u * (1 - v), u * v],
+                      [-(1 - v) / dy, -v / dy, (1 - v) / dy, v / dy],
+                      [-(1 - u) / dw, (1 - u) / dw, -u / dw, u / dw]])
+        return w @ c
 
     def evaluate(self, y: float, yaw: float) -> ContactGeometry:
-        """Interpolate the table at ``(y, yaw)`` and at two nearby points for the slopes."""
-        if self.y_axis is not None and self.y_axis.size:
-            y = float(np.clip(y, self.y_axis[0], self.y_axis[-1]))
-        if self.yaw_axis is not None and self.yaw_axis.size:
-            yaw = float(np.clip(yaw, self.yaw_axis[0], self.yaw_axis[-1]))
-        h_y, h_yaw = _steps(y, yaw, self.y_axis, self.yaw_axis, self.h_y, self.h_yaw)
-        ys = np.array([y, y + h_y, y])
-        yaws = np.array([yaw, yaw, yaw + h_yaw])
+        """Interpolate the table at ``(y, yaw)`` (clipped to the grid)."""
         self.calls += 1
-        if self._packed is not None:
-            rec = self._interp_packed(ys, yaws)
-        else:
-            rec = self.table.interp(ys, yaws, method=self.method, quantities=self.names)
-        return geometry_from_records(y, yaw, rec, h_y, h_yaw)
+        ya, wa = self._ylist, self._wlist
+        y = min(max(float(y), ya[0]), ya[-1])
+        yaw = min(max(float(yaw), wa[0]), wa[-1])
+        out = self.interp_vector(y, yaw)
+        k, nf = self._k, 4 * self._f
+        flag = out[0, k:]
+        clean = np.where(flag > 0.0, 0.0, out[0, :k])
+        pc = clean[:nf].reshape(2, 2, self._f)
+        fs = self._fields
+        active = pc[..., fs["_inactive"].start] <= 0.0
+        n = pc[..., fs["normal"]]
+        norm = np.sqrt(np.einsum("ijk,ijk->ij", n, n))[..., None]
+        n = np.where(norm > 0, n / np.where(norm > 0, norm, 1.0), 0.0)
+        z_g, roll, x_g = out[0, nf:nf + 3].tolist()
+        zf, rf = flag[nf:nf + 2].tolist()
+        dz_dy, droll_dy = out[1, nf:nf + 2].tolist()
+        dz_dyaw, droll_dyaw = out[2, nf:nf + 2].tolist()
+        return ContactGeometry(
+            y=y, yaw=yaw, z_g=z_g if zf <= 0 else math.nan, roll=roll if rf <= 0 else math.nan,
+            x_g=x_g if flag[nf + 2] <= 0 else 0.0, dz_dy=dz_dy, dz_dyaw=dz_dyaw,
+            droll_dy=droll_dy, droll_dyaw=droll_dyaw, wheel_point=pc[..., fs["wheel_point"]],
+            normal=n, rolling_radius=pc[..., fs["rolling_radius"].start],
+            contact_angle=self._field(pc, "contact_angle"),
+            curv_wheel_rolling=self._field(pc, "curv_wheel_rolling"),
+            curv_wheel_transverse=self._field(pc, "curv_wheel_transverse"),
+            curv_rail_transverse=self._field(pc, "curv_rail_transverse"),
+            indentation=self._weights(pc, active), active=active)
+
+    def _field(self, pc: np.ndarray, name: str) -> np.ndarray:
+        sl = self._fields.get(name)
+        return pc[..., sl.start] if sl is not None else np.zeros((2, 2))
+
+    def _weights(self, pc: np.ndarray, active: np.ndarray) -> np.ndarray:
+        """:func:`_split_weights` on the packed block (force, else indentation, else 1); the
+        NaN entries are already 0 in ``pc``."""
+        has = active.any(axis=1).tolist()
+        for name in ("force", "indentation"):
+            if name in self._fields:
+                w = np.where(active, np.maximum(pc[..., self._fields[name].start], 0.0), 0.0)
+                s = w.sum(axis=1).tolist()
+                if all(s[i] > 0 for i in (0, 1) if has[i]):
+                    return w
+        return active.astype(float)
+
+
+#: scalar (per pose) table quantities, packed after the per-contact block
+_SCALARS = ("z_g", "roll", "x_g")
+#: the per-contact fields whose absence means "no contact" (as in :func:`geometry_from_records`)
+_DEFINING = ("wheel_point", "normal", "rolling_radius", "indentation")
 
 
 class OnlineProvider:
@@ -272,11 +321,13 @@ class OnlineProvider:
     method : str
         Contact method passed to :func:`lutmpi.contact.solve.solve_pose`.
     h_y, h_yaw : float
-        Difference steps, m and rad.
+        Difference steps, m and rad. Not smaller: a pose is solved to ~0.1 um, so a 1 um step
+        gives slopes with O(1) noise on the mesh-based methods (``load_centre``: d z_g / dy off
+        by 50x at h = 1e-6); 0.1 mm is still 5x finer than the paper's table cells.
     """
 
-    def __init__(self, scene: Any, method: str = "reference", h_y: float = 1e-6,
-                 h_yaw: float = 1e-6, flange_angle: float = math.radians(70.0)) -> None:
+    def __init__(self, scene: Any, method: str = "reference", h_y: float = 1e-4,
+                 h_yaw: float = 1e-4, flange_angle: float = math.radians(70.0)) -> None:
         from lutmpi.contact.solve import solve_pose
         from lutmpi.table.compute import pose_to_record
         from lutmpi.table.schema import FIELDS
