@@ -69,8 +69,8 @@ def test_expansion_is_deterministic_and_ids_are_stable(tmp_path):
     assert [s.params for s in first] == [s.params for s in second]
     assert [s.config.mesh for s in first] == [s.config.mesh for s in second]
     # golden IDs: a change here renames every stored table of every existing sweep
-    assert first[0].id == "m-max_distance__h-2"
-    assert first[6].id == "m-max_normal_distance__h-0.5"
+    assert first[0].id == "m-max_distance__h-2__d-0.04"
+    assert first[6].id == "m-max_normal_distance__h-0.5__d-0.0025"
     assert first[-1].id == "m-reference"
 
 
