@@ -41,11 +41,14 @@ class WheelMesh:
     dr: np.ndarray  # (nk,) d r / d s
     k0: int  # global index of slice 0
     dphi: float  # rad
+    tab_s: np.ndarray  # dense table of s (10 µm) ...
+    tab_dr: np.ndarray  # ... and d r / d s, for the wheel normal off the nodes (both kernels)
 
     @classmethod
     def build(cls, wheel: WheelGeometry, h_lat: float, h_circ: float) -> WheelMesh:
         xs = np.linspace(wheel.s_min, wheel.s_max, 20000)
         s, k0 = _arc_grid(xs, wheel.profile.z_at(xs), 0.0, h_lat)
+        tab_s = np.linspace(wheel.s_min, wheel.s_max, int((wheel.s_max - wheel.s_min) / 1e-5) + 2)
         return cls(
             wheel=wheel,
             h_lat=h_lat,
@@ -55,6 +58,8 @@ class WheelMesh:
             dr=wheel.dr(s),
             k0=k0,
             dphi=h_circ / wheel.r0,
+            tab_s=tab_s,
+            tab_dr=wheel.dr(tab_s),
         )
 
     def body_points(
@@ -186,7 +191,7 @@ def build_window(
     ok = (u >= rail.u_min) & (u <= rail.u_max)
     if not full:
         vgap = np.full(u.shape, np.inf)
-        vgap[ok] = tp[ok, 2] - rail.height(u[ok])
+        vgap[ok] = tp[ok, 2] - rail.height_fast(u[ok])
         ok &= vgap <= gmin + depth
     k, m, pts, nrm, tp = k[ok], m[ok], pts[ok], nrm[ok], tp[ok]
     rl, rj, rp, rn = _rail_box(side, rmesh, tp, with_rail)

@@ -111,12 +111,13 @@ def wheel_normal_at(
     point: np.ndarray, side: float, wmesh: WheelMesh, centre: np.ndarray, R: np.ndarray
 ) -> tuple[np.ndarray, float]:
     """Outward wheel normal (track frame) at the wheel-surface location of ``point``, and the
-    profile coordinate ``s`` of that location."""
+    profile coordinate ``s`` of that location (slope from the mesh's 10 µm table, as in the
+    compiled kernel)."""
     c = (point - centre) @ R
     s = side * c[1] - wmesh.wheel.d
     s = float(np.clip(s, wmesh.wheel.s_min, wmesh.wheel.s_max))
     phi = np.arctan2(c[0], -c[2])
-    dr = float(wmesh.wheel.dr(s))
+    dr = float(np.interp(s, wmesh.tab_s, wmesh.tab_dr))
     inv = 1.0 / np.sqrt(1.0 + dr * dr)
     nb = np.array([np.sin(phi) * inv, -side * dr * inv, -np.cos(phi) * inv])
     return R @ nb, s
@@ -190,9 +191,8 @@ def load_centre(ws: WheelSearch, idx: np.ndarray, ctx: dict) -> MeshContact:
     """Eqs. (6)-(7): centroids of the wheel and rail nodes of the volume."""
     side, wmesh, centre, R = ctx["side"], ctx["wmesh"], ctx["centre"], ctx["R"]
     Pw = ws.P[idx].mean(axis=0)
-    rail_in, rail_k = ctx["rail_inside"], ctx["rail_k"]
-    klo, khi = ws.k[idx].min(), ws.k[idx].max()
-    sel = rail_in & (rail_k >= klo - 1) & (rail_k <= khi + 1)
+    rail_in = ctx["rail_inside"]
+    sel = rail_in & (ctx["rail_volume"] == ctx["volume"])
     if np.any(sel):
         Pr = ctx["rail_pts"][sel].mean(axis=0)
         n_r = int(sel.sum())
@@ -245,10 +245,20 @@ def wheel_contacts(
     if inside_idx.size == 0:
         return []
     ctx = {"side": win.side, "wmesh": wmesh, "rmesh": rmesh, "centre": centre, "R": R}
+    vols = split_volumes(ws.k[inside_idx])
     if method in NEEDS_RAIL_NODES:
         rin, rk = search_rail(win, wmesh, centre, R)
-        ctx.update(rail_inside=rin, rail_k=rk, rail_pts=win.rail_pts)
-    out = [fn(ws, inside_idx[g], ctx) for g in split_volumes(ws.k[inside_idx])]
+        # each rail node belongs to the first volume whose slices (one either side) hold its
+        # nearest wheel slice
+        rvol = np.full(rk.shape, -1)
+        for g in range(len(vols) - 1, -1, -1):
+            kv = ws.k[inside_idx[vols[g]]]
+            rvol[(rk >= kv.min() - 1) & (rk <= kv.max() + 1)] = g
+        ctx.update(rail_inside=rin, rail_volume=rvol, rail_pts=win.rail_pts)
+    out = []
+    for g, v in enumerate(vols):
+        ctx["volume"] = g
+        out.append(fn(ws, inside_idx[v], ctx))
     out = [c for c in out if c.indentation > 0.0]
     out.sort(key=lambda c: -c.indentation)
     return out[:max_contacts]
@@ -261,8 +271,6 @@ def wheel_contacts_compiled(
     rmesh: RailMesh,
     centre: np.ndarray,
     R: np.ndarray,
-    table_s: np.ndarray,
-    table_dr: np.ndarray,
     max_contacts: int = 2,
 ) -> list[MeshContact]:
     """Same as :func:`wheel_contacts`, with the node loops compiled (numba)."""
@@ -290,8 +298,8 @@ def wheel_contacts_compiled(
         wmesh.dr,
         w.d,
         wmesh.dphi,
-        table_s,
-        table_dr,
+        wmesh.tab_s,
+        wmesh.tab_dr,
         w.s_min,
         w.s_max,
         3,

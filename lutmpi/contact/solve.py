@@ -197,7 +197,6 @@ def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseRe
 def _evaluator(scene, wins: dict[str, Window], method: str, rigid: RigidSolution):
     wm, rm = scene.wheel_mesh, scene.rail_mesh
     mc = scene.settings.max_contacts
-    ts, tdr = scene.locus.samp.s, scene.locus.samp.dr
 
     def evaluate(q: np.ndarray) -> dict[str, list[ContactForce]]:
         centre = np.array([0.0, rigid.y, q[0]])
@@ -205,7 +204,7 @@ def _evaluator(scene, wins: dict[str, Window], method: str, rigid: RigidSolution
         out = {}
         for name, win in wins.items():
             if scene.settings.compiled:
-                cs = wheel_contacts_compiled(method, win, wm, rm, centre, R, ts, tdr, mc)
+                cs = wheel_contacts_compiled(method, win, wm, rm, centre, R, mc)
             else:
                 cs = wheel_contacts(method, win, wm, rm, centre, R, mc)
             out[name] = [
