@@ -18,10 +18,11 @@ def register(subparsers: Any) -> None:
     p.add_argument("--table", help="lookup table (HDF5); required unless --online")
     p.add_argument("--online", action="store_true", help="contact by a pose solve at every call")
     p.add_argument("--method", default=None, help="contact method")
-    p.add_argument("--amplitude", type=float, default=1e-3,
-                   help="amplitude of the harmonic linearisation, m (1e-3)")
-    p.add_argument("--duration", type=float, default=20.0, help="run length per speed, s (20)")
-    p.add_argument("--vy0", type=float, default=0.005, help="initial lateral velocity, m/s")
+    p.add_argument("--amplitude", type=float, default=3.5e-4,
+                   help="amplitude of the linearisation, m (3.5e-4: the oscillation that "
+                        "vy0 = 0.1 m/s starts)")
+    p.add_argument("--duration", type=float, default=30.0, help="run length per speed, s (30)")
+    p.add_argument("--vy0", type=float, default=0.1, help="initial lateral velocity, m/s (0.1)")
     p.add_argument("--rel-tol", type=float, default=0.02, help="bisection tolerance (0.02)")
     p.add_argument("--linear-only", action="store_true", help="skip the bisection")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -31,6 +32,7 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from lutmpi.commands.simulate import make_provider
     from lutmpi.dynamics.critical import (
+        jacobian_critical_speed,
         linear_critical_speed,
         linear_parameters,
         nonlinear_critical_speed,
@@ -40,21 +42,24 @@ def run(args: argparse.Namespace) -> int:
     provider, params, source = make_provider(args)
     lp = linear_parameters(provider, params, amplitude=args.amplitude)
     lin = linear_critical_speed(lp, params)
-    out: dict[str, Any] = {"source": source, "linear": lin.as_dict()}
-    print(f"{source}: linear critical speed {lin.speed:.3f} m/s "
-          f"(hunting frequency {lin.frequency:.3f} Hz; lam_e {lp.lam_e:.4f} at "
-          f"{args.amplitude * 1e3:g} mm, k_gy {lp.k_gy:.4g} N/m, k_gyaw {lp.k_gyaw:.4g} N m/rad)")
-    if not args.linear_only and math.isfinite(lin.speed) and lin.speed > 0:
-        nl = nonlinear_critical_speed(provider, params, 0.6 * lin.speed, 1.6 * lin.speed,
+    v_j, f_j = jacobian_critical_speed(provider, params, amplitude=args.amplitude)
+    out: dict[str, Any] = {"source": source, "classical": lin.as_dict(),
+                           "linear": {"speed": v_j, "frequency": f_j}}
+    print(f"{source}: linearised model (Jacobian of the simulated rhs): critical speed "
+          f"{v_j:.3f} m/s, hunting frequency {f_j:.3f} Hz")
+    print(f"{source}: classical Wickens model: {lin.speed:.3f} m/s (lam_e {lp.lam_e:.4f} at "
+          f"{args.amplitude * 1e3:g} mm, k_gy {lp.k_gy:.4g} N/m, k_spin {lp.k_spin:.4g} N/m)")
+    if not args.linear_only and math.isfinite(v_j) and v_j > 0:
+        nl = nonlinear_critical_speed(provider, params, 0.7 * v_j, 1.4 * v_j,
                                       rel_tol=args.rel_tol, vy0=args.vy0,
                                       duration=args.duration)
         out["nonlinear"] = {"speed": nl.speed, "stable_below": nl.stable_below,
                             "hunting_above": nl.hunting_above, "converged": nl.converged,
                             "runs": nl.runs}
-        diff = (nl.speed / lin.speed - 1.0) * 100 if nl.converged else float("nan")
+        diff = (nl.speed / v_j - 1.0) * 100 if nl.converged else float("nan")
         print(f"{source}: nonlinear critical speed {nl.speed:.3f} m/s in "
               f"[{nl.stable_below:.3f}, {nl.hunting_above:.3f}] ({len(nl.runs)} runs; "
-              f"{diff:+.1f} % vs linear)")
+              f"{diff:+.1f} % vs linearised)")
     if args.json:
         print(json.dumps(out, default=float, indent=1))
     return 0

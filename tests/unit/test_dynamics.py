@@ -133,3 +133,15 @@ def test_params_from_config_text():
     p = WheelsetParams.from_toml_text('[material]\nyoung_GPa = 210.0\npoisson = 0.28\n'
                                       '[wheel]\nnominal_radius_mm = 450.0\n')
     assert (p.young, p.poisson, p.r0, p.mass, p.I_yy) == (210e9, 0.28, 0.45, 1595.0, 174.0)
+
+
+def test_jacobian_model_agrees_with_the_classical_model_on_a_cone():
+    """The eigenvalues of the simulated rhs's own Jacobian (what the CLI reports as the linear
+    critical speed) against the classical Wickens model on a 1:20 cone with linear creep."""
+    from lutmpi.dynamics.critical import jacobian_critical_speed
+
+    prov = ConedWheelProvider(R0, 0.05, B)
+    p = P.with_(saturation="none")
+    vc = linear_critical_speed(linear_parameters(prov, p), p).speed
+    vj, fj = jacobian_critical_speed(prov, p, amplitude=1e-4)
+    assert vj == pytest.approx(vc, rel=0.10) and fj > 0
