@@ -76,7 +76,8 @@ def main() -> None:
         dy = np.max(np.abs(runs["table"].y - r.y))
         amp = np.max(np.abs(r.y))
         print(f"table vs {name}: max |dy| = {dy * 1e6:.2f} um = {100 * dy / amp:.2f} % of the "
-              f"amplitude {amp * 1e3:.3f} mm; run speed-up {r.wall_time / runs['table'].wall_time:.1f}x")
+              f"amplitude {amp * 1e3:.3f} mm; run speed-up "
+              f"{r.wall_time / runs['table'].wall_time:.1f}x")
 
 
 if __name__ == "__main__":
