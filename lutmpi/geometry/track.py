@@ -133,6 +133,9 @@ class PlacedRail:
     def __post_init__(self) -> None:
         spl = CubicSpline(self.u, self.z)
         object.__setattr__(self, "_spl", spl)
+        tab_u = np.linspace(self.u[0], self.u[-1], int((self.u[-1] - self.u[0]) / 5e-6) + 2)
+        object.__setattr__(self, "_tab_u", tab_u)
+        object.__setattr__(self, "_tab_z", spl(tab_u))
         object.__setattr__(self, "_d1", spl.derivative(1))
         object.__setattr__(self, "_d2", spl.derivative(2))
 
@@ -145,8 +148,13 @@ class PlacedRail:
         return float(self.u[-1])
 
     def height(self, u: np.ndarray | float) -> np.ndarray:
-        """Rail surface height ``zr(u)``, m."""
+        """Rail surface height ``zr(u)``, m (the spline)."""
         return self._spl(u)
+
+    def height_fast(self, u: np.ndarray) -> np.ndarray:
+        """``zr(u)`` by linear interpolation of the spline tabulated every 5 µm (error below
+        1e-9 m for curvature radii above 3 mm); for the hot loops."""
+        return np.interp(u, self._tab_u, self._tab_z)
 
     def slope(self, u: np.ndarray | float) -> np.ndarray:
         return self._d1(u)
