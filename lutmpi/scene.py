@@ -104,6 +104,7 @@ class Scene:
             allowed_indentation=c.allowed_indentation_mm * 1e-3,
             max_iterations=e.max_iterations,
             solver=e.solver,
+            extrapolate=c.extrapolate,
         )
         f = cfg.flange
         chi = paper_flange_chi() if f.enabled else 1.0
