@@ -23,7 +23,7 @@ pip_q() {
 }
 
 # --- 1. Debian: Open MPI and parallel HDF5 -------------------------------------------------------
-APT_PKGS=(openmpi-bin libopenmpi-dev libhdf5-openmpi-dev pkg-config)
+APT_PKGS=(openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools pkg-config)
 missing=()
 for p in "${APT_PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
