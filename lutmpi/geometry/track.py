@@ -30,6 +30,7 @@ from lutmpi.profiles.model import Profile
 SIDES = {"left": 1.0, "right": -1.0}
 MAX_SLOPE_DEG = 85.0  # profile parts steeper than this are never contact candidates
 _SAMPLE = 5e-5  # m, resampling step when rotating a profile
+CURV_BASE = 2.5e-4  # m, half base of the curvature estimate
 
 
 def _arc_length(x: np.ndarray, z: np.ndarray) -> np.ndarray:
@@ -159,10 +160,17 @@ class PlacedRail:
     def slope(self, u: np.ndarray | float) -> np.ndarray:
         return self._d1(u)
 
-    def convex_curvature(self, u: np.ndarray | float) -> np.ndarray:
-        """Transverse curvature of the rail surface, 1/m, positive where convex (crown)."""
-        d1 = self._d1(u)
-        return -self._d2(u) / (1.0 + d1 * d1) ** 1.5
+    def convex_curvature(self, u: np.ndarray | float, h: float = CURV_BASE) -> np.ndarray:
+        """Transverse curvature of the rail surface, 1/m, positive where convex (crown): the
+        change of the normal's angle over ``u ± h`` (``h`` = 0.25 mm), so that the joints of a
+        profile made of arcs (UIC60: R300/R80/R13) give the mean of the two arcs instead of the
+        ringing of a spline's second derivative."""
+        u = np.asarray(u, dtype=float)
+        lo = np.clip(u - h, self.u_min, self.u_max)
+        hi = np.clip(u + h, self.u_min, self.u_max)
+        a = np.arctan(self._d1(hi)) - np.arctan(self._d1(lo))
+        span = np.hypot(hi - lo, self._spl(hi) - self._spl(lo))
+        return -a / np.where(span > 0, span, np.inf)
 
     def profile_coordinate(self, u: np.ndarray | float, z: np.ndarray | float) -> np.ndarray:
         """Map placed (u, z) back to the rail profile's own lateral coordinate v (m)."""
@@ -214,9 +222,16 @@ class WheelGeometry:
     def dr(self, s: np.ndarray | float) -> np.ndarray:
         return self.profile.slope(s)
 
-    def convex_curvature(self, s: np.ndarray | float) -> np.ndarray:
-        """Transverse curvature of the wheel surface, 1/m, positive where convex (flange tip)."""
-        return -self.profile.curvature(s)
+    def convex_curvature(self, s: np.ndarray | float, h: float = CURV_BASE) -> np.ndarray:
+        """Transverse curvature of the wheel surface, 1/m, positive where convex (flange tip):
+        the change of the normal's angle over ``s ± h`` (see ``PlacedRail.convex_curvature``)."""
+        s = np.asarray(s, dtype=float)
+        lo = np.clip(s - h, self.s_min, self.s_max)
+        hi = np.clip(s + h, self.s_min, self.s_max)
+        p = self.profile
+        a = np.arctan(p.slope(hi)) - np.arctan(p.slope(lo))
+        span = np.hypot(hi - lo, p.z_at(hi) - p.z_at(lo))
+        return -a / np.where(span > 0, span, np.inf)
 
     def flange_tip_radius(self) -> float:
         s = np.linspace(self.s_min, 0.0, 4000)
