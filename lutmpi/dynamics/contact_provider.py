@@ -168,6 +168,18 @@ def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray
     return active.astype(float)
 
 
+def wheel_flange_angle(cfg: Any) -> float:
+    """Steepest angle of the wheel profile's flange flank (rad), between the flange tip and the
+    tape circle, for the wheel of config ``cfg``."""
+    from lutmpi.scene import load_scene_profiles
+
+    wheel, _ = load_scene_profiles(cfg)
+    s = np.linspace(wheel.y_min, 0.0, 4000)
+    tip = s[int(np.argmax(wheel.z_at(s)))]
+    flank = np.linspace(tip, 0.0, 4000)
+    return float(np.arctan(np.max(-wheel.slope(flank))))
+
+
 class TableProvider:
     """Contact geometry by bilinear interpolation in a lookup table.
 
@@ -235,9 +247,19 @@ class TableProvider:
         return np.ascontiguousarray(data), fields, f
 
     def _flange_angle(self) -> float:
-        if "contact_angle" not in self.names:
-            return math.radians(70.0)   # S1002's flange angle
-        return float(np.nanmax(self.table.get("contact_angle", self.method)))
+        """The flange angle for Nadal's limit: the steepest flank of the table's wheel profile
+        (from the stored config), not the largest contact angle the table happens to reach."""
+        table_max = (float(np.nanmax(self.table.get("contact_angle", self.method)))
+                     if "contact_angle" in self.names else 0.0)
+        try:
+            import tomllib
+
+            from lutmpi.config import config_from_dict
+
+            cfg = config_from_dict(tomllib.loads(self.table.config_toml))
+            return max(table_max, wheel_flange_angle(cfg))
+        except Exception:  # noqa: BLE001 - a table whose profile file moved: S1002's 70 deg
+            return max(table_max, math.radians(70.0))
 
     def _cell(self, y: float, yaw: float) -> tuple[int, int, float, float, float, float]:
         ya, wa = self._ylist, self._wlist
