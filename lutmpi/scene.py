@@ -24,7 +24,7 @@ class SolveSettings:
     method: str = "load_centre"
     max_contacts: int = 2
     window: bool = True
-    window_gap: float = 5e-5  # m, rigid gap depth of the window beyond the penetration
+    window_gap: float = 2e-5  # m, rigid gap depth of the window beyond the penetration
     flange: bool = True
     flange_base_radius: float = float("nan")  # m
     flange_tip_radius: float = float("nan")  # m

@@ -83,7 +83,7 @@ class MeshConfig:
     rail_lateral_mm: float = 0.25          # arc-length spacing along the rail profile
     rail_longitudinal_mm: float = 0.5      # spacing along the track
     window: bool = True                    # mesh only where contact can occur
-    window_gap_mm: float = 0.05            # window depth beyond the expected penetration
+    window_gap_mm: float = 0.02            # window depth beyond the expected penetration
     window_margin_mm: float = 2.0          # extra margin around the window (both directions)
 
 

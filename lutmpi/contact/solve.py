@@ -146,6 +146,12 @@ def _flange_factor(scene, s: float) -> float:
     return float(flange_kc_scale(r, st.flange_base_radius, st.flange_tip_radius, st.chi))
 
 
+def _rigid_angle(scene, c) -> float:
+    """Contact angle of a rigid (locus) contact from the rail slope at its lateral position."""
+    u = float(np.clip(c.u, scene.rail.u_min, scene.rail.u_max))
+    return float(np.arctan(scene.rail.slope(u)))
+
+
 def _windows(
     scene, rigid: RigidSolution, method: str, depth: float, full: bool
 ) -> dict[str, Window]:
@@ -173,7 +179,11 @@ def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseRe
     f_min = min(
         (_flange_factor(scene, c.s) for cs in rigid.contacts.values() for c in cs), default=1.0
     )
-    depth = scene.settings.window_gap + 2.0 * eq.load / (eq.kc0 * f_min)
+    # window depth: the margin plus twice the vertical approach of the softest contact at the
+    # first k_c (normal approach W / (k f) over cos of the steepest contact angle)
+    n_z = min((abs(np.cos(_rigid_angle(scene, c))) for cs in rigid.contacts.values() for c in cs),
+              default=1.0)
+    depth = scene.settings.window_gap + 2.0 * eq.load / (eq.kc0 * f_min * max(n_z, 0.2))
     for _ in range(3):
         wins = _windows(scene, rigid, method, depth, full or not scene.settings.window)
         solver = Equilibrium(
@@ -183,9 +193,16 @@ def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseRe
             np.array([rigid.z_g, rigid.roll]),
             eq,
             lever=scene.wheel.d,
+            fmin=f_min,
+            rate=INDENTATION_RATE[method],
         )
         out = solver.solve()
-        moved = abs(out.q[0] - rigid.z_g) + abs(out.q[1] - rigid.roll) * (scene.wheel.d + 0.1)
+        # how far the wheels moved vertically at their contacts: the nodes left out of the
+        # window had a rigid gap above ``depth``, so none of them can be in contact unless a
+        # wheel moved that far
+        dz, dr = out.q[0] - rigid.z_g, out.q[1] - rigid.roll
+        moved = max(abs(dz + sd * scene.wheel.d * dr) for sd in SIDE_SIGN.values()) \
+            + 0.1 * abs(dr)
         if full or not scene.settings.window or moved < depth:
             break
         depth *= 4.0  # the pose left the window's depth: widen it and solve again

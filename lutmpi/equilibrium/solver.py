@@ -130,6 +130,7 @@ class Equilibrium:
         opts: EquilibriumOptions,
         lever: float = 0.75,
         fmin: float = 1.0,
+        rate: float = 1.0,
     ):
         self.evaluate, self.y, self.yaw = evaluate, y, yaw
         self.q0 = np.asarray(q0, dtype=float)
@@ -138,6 +139,7 @@ class Equilibrium:
         self.axis = np.array([np.cos(yaw), np.sin(yaw), 0.0])
         self.nit = 0
         self.fmin = fmin
+        self.rate = rate  # the method's indentation rate: where the first guess starts
 
     # -- residual and Jacobian -------------------------------------------------------------
     def residual(self, q: np.ndarray, kc: float) -> tuple[np.ndarray, np.ndarray, dict]:
@@ -313,7 +315,8 @@ class Equilibrium:
         kc = o.kc0
         k_easy = o.load / (o.target * o.allowed_indentation)
         k = min(kc, k_easy)
-        q = self.q0 - np.array([0.5 * o.load / k, 0.0])
+        # first guess: each wheel carries W/2 at an approach of W / (2 k rate)
+        q = self.q0 - np.array([0.5 * o.load / (k * self.rate), 0.0])
         good = None
         while True:
             qk, ok, R, cs = self.solve_at(q, k)

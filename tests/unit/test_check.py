@@ -122,7 +122,7 @@ def test_window_disagreement_fails_with_window_gap_advice(paper, monkeypatch):
     s = Suite(*paper, CheckOptions(points=8, fast=True))
     res = s.window(s.ref.survey(60))
     assert not res.passed
-    assert "window too narrow: increase mesh.window_gap_mm (now 0.05)" in res.message
+    assert "window too narrow: increase mesh.window_gap_mm (now 0.02)" in res.message
 
 
 def test_solver_exception_becomes_an_error_status(paper, monkeypatch):
