@@ -193,6 +193,7 @@ class LocusSolver:
         self._s2 = np.concatenate([s.s, s.s])
         self._r2 = np.concatenate([s.r, s.r])
         self._dr2 = np.concatenate([s.dr, s.dr])
+        self._all_idx = np.arange(2 * s.s.size)
 
     def side_height(self, side: float, y: float, yaw: float, roll: float) -> tuple[float, Locus]:
         """z_g at which wheel ``side`` just touches its rail, for this roll (m)."""
@@ -204,27 +205,20 @@ class LocusSolver:
 
     def heights(self, y: float, yaw: float, roll: float,
                 sub: np.ndarray | None = None) -> tuple[float, float]:
-        """Touching heights (left, right) for this roll, both sides in one vectorized pass;
-        ``sub`` restricts the samples (indices into the two concatenated sides)."""
+        """Touching heights (left, right) for this roll, both sides in one compiled pass;
+        ``sub`` restricts the samples (sorted indices into the two concatenated sides)."""
+        from lutmpi.contact.kernels import locus_heights
+
         R = wheelset_rotation(yaw, roll)
-        n = self.samp.s.size
-        idx = np.arange(2 * n) if sub is None else sub
-        side = self._side2[idx]
-        phi = locus_angles(side, self._dr2[idx], R)
-        pts = wheel_points_body(side, self._s2[idx], self._r2[idx], phi, self.wheel.d) @ R.T
-        pts[:, 1] += y
-        u = side * pts[:, 1]
-        inside = (u >= self.rail.u_min) & (u <= self.rail.u_max)
-        gap = np.full(u.shape, np.inf)
-        gap[inside] = pts[inside, 2] - self.rail.height_fast(u[inside])
-        left = idx < n
-        gl, gr = gap[left], gap[~left]
-        if gl.size == 0 or gr.size == 0:
-            return -np.inf, -np.inf
-        _, ml = _parabolic_min(gl, int(np.argmin(gl)))
-        _, mr = _parabolic_min(gr, int(np.argmin(gr)))
+        idx = self._all_idx if sub is None else sub
+        gap = np.empty(idx.size)
+        rail = self.rail
+        hl, hr = locus_heights(idx, self.samp.s.size, self._side2, self._s2, self._r2,
+                               self._dr2, self.wheel.d, R, y, rail._tab_u[0],
+                               rail._tab_u[1] - rail._tab_u[0], rail._tab_z, rail.u_min,
+                               rail.u_max, gap)
         self._last_gap = gap
-        return -ml, -mr
+        return hl, hr
 
     def _candidates(self, gap: np.ndarray, band: float = 5e-4, half: int = 30) -> np.ndarray:
         """Indices (both sides concatenated) near every local gap minimum within ``band`` of
