@@ -220,11 +220,19 @@ def _under_wheel_window(side: float, wmesh: WheelMesh, k: np.ndarray, m: np.ndar
     c = (rail_pts - centre) @ R
     kk = wmesh.nearest_slice(side * c[:, 1], np.hypot(c[:, 0], c[:, 2]))
     mm = np.round(np.arctan2(c[:, 0], -c[:, 2]) / wmesh.dphi).astype(np.int64)
-    big = np.int64(1) << 32
-    d = np.array([-1, 0, 1])
-    keys = ((k[:, None, None] + d[None, :, None]).astype(np.int64) * big
-            + (m[:, None, None] + d[None, None, :])).ravel()
-    return np.isin(kk.astype(np.int64) * big + mm, keys)
+    if k.size == 0:
+        return np.zeros(kk.shape, dtype=bool)
+    # the window's (k, m) nodes dilated by one in both indices, as a dense boolean grid
+    k0, m0 = int(k.min()) - 1, int(m.min()) - 1
+    grid = np.zeros((int(k.max()) - k0 + 2, int(m.max()) - m0 + 2), dtype=bool)
+    for dk in (-1, 0, 1):
+        for dm in (-1, 0, 1):
+            grid[k - k0 + dk, m - m0 + dm] = True
+    ik, im = kk - k0, mm - m0
+    inside = (ik >= 0) & (ik < grid.shape[0]) & (im >= 0) & (im < grid.shape[1])
+    out = np.zeros(kk.shape, dtype=bool)
+    out[inside] = grid[ik[inside], im[inside]]
+    return out
 
 
 def _rail_box(
