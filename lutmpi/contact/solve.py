@@ -195,6 +195,7 @@ def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseRe
             lever=scene.wheel.d,
             fmin=f_min,
             rate=INDENTATION_RATE[method],
+            nz_min=n_z,
         )
         out = solver.solve()
         # how far the wheels moved vertically at their contacts: the nodes left out of the

@@ -131,6 +131,7 @@ class Equilibrium:
         lever: float = 0.75,
         fmin: float = 1.0,
         rate: float = 1.0,
+        nz_min: float = 1.0,
     ):
         self.evaluate, self.y, self.yaw = evaluate, y, yaw
         self.q0 = np.asarray(q0, dtype=float)
@@ -140,6 +141,7 @@ class Equilibrium:
         self.nit = 0
         self.fmin = fmin
         self.rate = rate  # the method's indentation rate: where the first guess starts
+        self.nz_min = nz_min  # smallest vertical normal component of the rigid contacts
 
     # -- residual and Jacobian -------------------------------------------------------------
     def residual(self, q: np.ndarray, kc: float) -> tuple[np.ndarray, np.ndarray, dict]:
@@ -244,7 +246,7 @@ class Equilibrium:
         """Nested Brent: z_g from the (monotone) vertical residual for each roll, the roll from
         the (monotone) roll residual. Converges to the pose even where the residual jumps."""
         span = 4.0 * self.noise_tol(kc)  # Newton stalled within a few noise widths of the root
-        xtol = self.qtol(kc)
+        xtol = max(self.qtol(kc), 0.1 * self.noise_tol(kc))  # a tenth of the noise width
         z_last = [q[0]]
 
         def z_of(roll: float) -> float:
@@ -312,9 +314,13 @@ class Equilibrium:
         below what the mesh resolves (its pairing jumps are ~h^2/(8R), tens of nm) — the last
         resolved step is the result, and its message says so."""
         o = self.opts
-        kc = o.kc0
-        k_easy = o.load / (o.target * o.allowed_indentation)
-        k = min(kc, k_easy)
+        # the stiffness at which the softest contact (flange factor f, vertical normal n_z)
+        # carrying half the load is indented by the target: below it, step 8 would only raise
+        # k_c level by level, so the solve starts there (never below the requested k_c0)
+        k_easy = o.load / (2.0 * o.target * o.allowed_indentation * self.fmin
+                           * max(self.nz_min, 0.2))
+        kc = max(o.kc0, k_easy)
+        k = k_easy
         # first guess: each wheel carries W/2 at an approach of W / (2 k rate)
         q = self.q0 - np.array([0.5 * o.load / (k * self.rate), 0.0])
         good = None
@@ -326,8 +332,8 @@ class Equilibrium:
             if k >= kc:
                 break
             k = min(10.0 * k, kc)
-        if good is None or good[1] < min(kc, k_easy):
-            return self._criterion_loop(q, min(kc, k_easy))
+        if good is None or good[1] < k_easy:
+            return self._criterion_loop(q, k_easy)
         q, k, R, cs = good
         out = self._criterion_loop(q, k, first=(q, True, R, cs))
         if out.success and k < kc:
