@@ -379,3 +379,97 @@ def locus_heights(idx, n, side2, s2, r2, dr2, d, R, y, u0, du, tabz, u_min, u_ma
     hl = -_parabola(gap, 0, n_left, il)
     hr = -_parabola(gap, n_left, idx.size, ir)
     return hl, hr
+
+
+@njit(cache=True)
+def window_wheel_nodes(side, ks, mc, mh, s, r, dr, d, dphi, centre, R, u0, du, tabz, u_min,
+                       u_max, limit, filt):
+    """Wheel nodes of a window: slices ``ks`` with angle indices ``mc ± mh``; with ``filt``,
+    only the nodes whose vertical gap to the rail is at most ``limit``. Returns (k, m, body
+    points, body normals, track points)."""
+    total = 0
+    for q in range(ks.size):
+        total += 2 * mh[q] + 1
+    K = np.empty(total, dtype=np.int64)
+    M = np.empty(total, dtype=np.int64)
+    BP = np.empty((total, 3))
+    BN = np.empty((total, 3))
+    TP = np.empty((total, 3))
+    nt = tabz.size
+    cnt = 0
+    for q in range(ks.size):
+        kk = ks[q]
+        rk, drk = r[kk], dr[kk]
+        inv = 1.0 / np.sqrt(1.0 + drk * drk)
+        by = side * (d + s[kk])
+        for mm in range(mc[q] - mh[q], mc[q] + mh[q] + 1):
+            phi = mm * dphi
+            sp, cp = np.sin(phi), np.cos(phi)
+            bx, bz = rk * sp, -rk * cp
+            tx = centre[0] + R[0, 0] * bx + R[0, 1] * by + R[0, 2] * bz
+            ty = centre[1] + R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz
+            tz = centre[2] + R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz
+            u = side * ty
+            if u < u_min or u > u_max:
+                continue
+            if filt:
+                f = (u - u0) / du
+                j = min(max(int(f), 0), nt - 2)
+                t = f - j
+                if tz - (tabz[j] + t * (tabz[j + 1] - tabz[j])) > limit:
+                    continue
+            K[cnt], M[cnt] = kk, mm
+            BP[cnt, 0], BP[cnt, 1], BP[cnt, 2] = bx, by, bz
+            BN[cnt, 0], BN[cnt, 1], BN[cnt, 2] = sp * inv, -side * drk * inv, -cp * inv
+            TP[cnt, 0], TP[cnt, 1], TP[cnt, 2] = tx, ty, tz
+            cnt += 1
+    return K[:cnt], M[:cnt], BP[:cnt], BN[:cnt], TP[:cnt]
+
+
+@njit(cache=True)
+def window_rail_nodes(side, k, m, tp, ru, rz, rnu, rnz, h_x, ws, wr, d, dphi, centre, R, KN,
+                      filt):
+    """Rail nodes in the box spanned by the window's wheel nodes (two nodes of margin); with
+    ``filt``, only those whose nearest wheel node is (next to) a window node. Returns (l, j,
+    track points, track normals)."""
+    n = k.size
+    umin, umax, xmin, xmax = np.inf, -np.inf, np.inf, -np.inf
+    for i in range(n):
+        u = side * tp[i, 1]
+        umin, umax = min(umin, u), max(umax, u)
+        xmin, xmax = min(xmin, tp[i, 0]), max(xmax, tp[i, 0])
+    l_lo = max(np.searchsorted(ru, umin) - 2, 0)
+    l_hi = min(np.searchsorted(ru, umax) + 2, ru.size - 1)
+    j_lo = int(np.floor(xmin / h_x)) - 2
+    j_hi = int(np.ceil(xmax / h_x)) + 2
+    k0, m0 = k.min() - 1, m.min() - 1
+    gk, gm = k.max() - k0 + 2, m.max() - m0 + 2
+    grid = np.zeros((gk, gm), dtype=np.bool_)
+    for i in range(n):
+        for a in range(-1, 2):
+            for b in range(-1, 2):
+                grid[k[i] - k0 + a, m[i] - m0 + b] = True
+    total = (l_hi - l_lo + 1) * (j_hi - j_lo + 1)
+    L = np.empty(total, dtype=np.int64)
+    J = np.empty(total, dtype=np.int64)
+    P = np.empty((total, 3))
+    N = np.zeros((total, 3))
+    cnt = 0
+    for ll in range(l_lo, l_hi + 1):
+        for jj in range(j_lo, j_hi + 1):
+            px, py, pz = jj * h_x, side * ru[ll], rz[ll]
+            if filt:
+                q0, q1, q2 = px - centre[0], py - centre[1], pz - centre[2]
+                c0 = R[0, 0] * q0 + R[1, 0] * q1 + R[2, 0] * q2
+                c1 = R[0, 1] * q0 + R[1, 1] * q1 + R[2, 1] * q2
+                c2 = R[0, 2] * q0 + R[1, 2] * q1 + R[2, 2] * q2
+                kk = _nearest_slice(side * c1, np.sqrt(c0 * c0 + c2 * c2), ws, wr, d, KN)
+                mm = int(np.round(np.arctan2(c0, -c2) / dphi))
+                ik, im = kk - k0, mm - m0
+                if ik < 0 or ik >= gk or im < 0 or im >= gm or not grid[ik, im]:
+                    continue
+            L[cnt], J[cnt] = ll, jj
+            P[cnt, 0], P[cnt, 1], P[cnt, 2] = px, py, pz
+            N[cnt, 1], N[cnt, 2] = side * rnu[ll], rnz[ll]
+            cnt += 1
+    return L[:cnt], J[:cnt], P[:cnt], N[:cnt]

@@ -179,25 +179,21 @@ def build_window(
         half_arc = np.sqrt(2.0 * (wmesh.r[ks] / 0.2) * depth) + 2.0 * wmesh.h_circ
     mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
     mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
-    counts = 2 * mh + 1
-    k = np.repeat(ks, counts)
-    m = np.repeat(mc - mh, counts) + (
-        np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    )
-    pts, nrm = wmesh.body_points(side, k, m)
-    tp = centre + pts @ R.T
-    u = side * tp[:, 1]
+    from lutmpi.contact.kernels import window_rail_nodes, window_wheel_nodes
+
     rail = rmesh.rail
-    ok = (u >= rail.u_min) & (u <= rail.u_max)
-    if not full:
-        vgap = np.full(u.shape, np.inf)
-        vgap[ok] = tp[ok, 2] - rail.height_fast(u[ok])
-        ok &= vgap <= gmin + depth
-    k, m, pts, nrm, tp = k[ok], m[ok], pts[ok], nrm[ok], tp[ok]
-    rl, rj, rp, rn = _rail_box(side, rmesh, tp, with_rail)
-    if with_rail and not full and rl.size:
-        keep = _under_wheel_window(side, wmesh, k, m, rp, centre, R)
-        rl, rj, rp, rn = rl[keep], rj[keep], rp[keep], rn[keep]
+    k, m, pts, nrm, tp = window_wheel_nodes(
+        side, ks.astype(np.int64), mc.astype(np.int64), mh.astype(np.int64), wmesh.s, wmesh.r,
+        wmesh.dr, wmesh.wheel.d, wmesh.dphi, centre, R, rail._tab_u[0],
+        rail._tab_u[1] - rail._tab_u[0], rail._tab_z, rail.u_min, rail.u_max, gmin + depth,
+        not full)
+    if with_rail and k.size:
+        rl, rj, rp, rn = window_rail_nodes(
+            side, k, m, tp, rmesh.u, rmesh.z, rmesh.nu, rmesh.nz, rmesh.h_x, wmesh.s, wmesh.r,
+            wmesh.wheel.d, wmesh.dphi, centre, R, 3, not full)
+    else:
+        rl = rj = np.zeros(0, dtype=np.int64)
+        rp = rn = np.zeros((0, 3))
     return Window(
         side=side,
         k=k,
@@ -210,48 +206,3 @@ def build_window(
         rail_nrm=rn,
         gap=depth,
     )
-
-
-def _under_wheel_window(side: float, wmesh: WheelMesh, k: np.ndarray, m: np.ndarray,
-                        rail_pts: np.ndarray, centre: np.ndarray, R: np.ndarray) -> np.ndarray:
-    """Mask of the rail nodes whose nearest wheel node is (next to) a window node: only those
-    can lie inside the wheel, since a rail node inside the wheel faces a wheel node inside the
-    rail."""
-    c = (rail_pts - centre) @ R
-    kk = wmesh.nearest_slice(side * c[:, 1], np.hypot(c[:, 0], c[:, 2]))
-    mm = np.round(np.arctan2(c[:, 0], -c[:, 2]) / wmesh.dphi).astype(np.int64)
-    if k.size == 0:
-        return np.zeros(kk.shape, dtype=bool)
-    # the window's (k, m) nodes dilated by one in both indices, as a dense boolean grid
-    k0, m0 = int(k.min()) - 1, int(m.min()) - 1
-    grid = np.zeros((int(k.max()) - k0 + 2, int(m.max()) - m0 + 2), dtype=bool)
-    for dk in (-1, 0, 1):
-        for dm in (-1, 0, 1):
-            grid[k - k0 + dk, m - m0 + dm] = True
-    ik, im = kk - k0, mm - m0
-    inside = (ik >= 0) & (ik < grid.shape[0]) & (im >= 0) & (im < grid.shape[1])
-    out = np.zeros(kk.shape, dtype=bool)
-    out[inside] = grid[ik[inside], im[inside]]
-    return out
-
-
-def _rail_box(
-    side: float, rmesh: RailMesh, wheel_track_pts: np.ndarray, with_rail: bool
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Rail nodes in the box spanned by the window's wheel nodes (plus two nodes each way)."""
-    empty = np.zeros(0, dtype=int)
-    if not with_rail or wheel_track_pts.shape[0] == 0:
-        return empty, empty, np.zeros((0, 3)), np.zeros((0, 3))
-    u = side * wheel_track_pts[:, 1]
-    x = wheel_track_pts[:, 0]
-    l_lo = max(int(np.searchsorted(rmesh.u, u.min())) - 2, 0)
-    l_hi = min(int(np.searchsorted(rmesh.u, u.max())) + 2, rmesh.u.size - 1)
-    j_lo = int(np.floor(x.min() / rmesh.h_x)) - 2
-    j_hi = int(np.ceil(x.max() / rmesh.h_x)) + 2
-    ls = np.arange(l_lo, l_hi + 1)
-    js = np.arange(j_lo, j_hi + 1)
-    L, J = np.meshgrid(ls, js, indexing="ij")
-    L, J = L.ravel(), J.ravel()
-    pts = np.stack([J * rmesh.h_x, side * rmesh.u[L], rmesh.z[L]], axis=1)
-    nrm = np.stack([np.zeros(L.size), side * rmesh.nu[L], rmesh.nz[L]], axis=1)
-    return L, J, pts, nrm
