@@ -202,7 +202,7 @@ class Equilibrium:
             cap = self.step_cap(kc)
             scale = max(abs(dq[0]) / cap, abs(dq[1]) * self.lever / cap, 1.0)
             dq = dq / scale
-            if self._small(dq, self.qtol(kc)):
+            if self._small(dq, 0.2 * self.noise_tol(kc)):
                 # the pose is known to qtol: what is left of the residual is the jump of a
                 # piecewise-linear mesh indentation, worth less than qtol of displacement
                 return q, True, R, cs
