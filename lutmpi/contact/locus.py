@@ -195,14 +195,6 @@ class LocusSolver:
         self._dr2 = np.concatenate([s.dr, s.dr])
         self._all_idx = np.arange(2 * s.s.size)
 
-    def side_height(self, side: float, y: float, yaw: float, roll: float) -> tuple[float, Locus]:
-        """z_g at which wheel ``side`` just touches its rail, for this roll (m)."""
-        centre = np.array([0.0, y, 0.0])
-        R = wheelset_rotation(yaw, roll)
-        loc = compute_locus(side, self.samp, self.wheel, self.rail, centre, R)
-        _, gmin = _parabolic_min(loc.gap, int(np.argmin(loc.gap)))
-        return -gmin, loc
-
     def heights(self, y: float, yaw: float, roll: float,
                 sub: np.ndarray | None = None) -> tuple[float, float]:
         """Touching heights (left, right) for this roll, both sides in one compiled pass;
@@ -309,14 +301,18 @@ class LocusSolver:
 
     def finish(self, y: float, yaw: float, roll: float, nit: int = 0) -> RigidSolution:
         """Contact details at the converged roll."""
-        zl, _ = self.side_height(1.0, y, yaw, roll)
-        zr, _ = self.side_height(-1.0, y, yaw, roll)
-        z_g = 0.5 * (zl + zr)
-        centre = np.array([0.0, y, z_g])
         R = wheelset_rotation(yaw, roll)
+        loci = {name: compute_locus(side, self.samp, self.wheel, self.rail,
+                                    np.array([0.0, y, 0.0]), R)
+                for name, side in (("left", 1.0), ("right", -1.0))}
+        z_side = [-_parabolic_min(lc.gap, int(np.argmin(lc.gap)))[1] for lc in loci.values()]
+        z_g = 0.5 * (z_side[0] + z_side[1])
+        centre = np.array([0.0, y, z_g])
         out = RigidSolution(y, yaw, z_g, roll, True, "converged", nit)
-        for name, side in (("left", 1.0), ("right", -1.0)):
-            loc = compute_locus(side, self.samp, self.wheel, self.rail, centre, R)
+        for name, loc in loci.items():
+            # the loci were computed with G at height 0: lifting G lifts every point and gap
+            loc.points[:, 2] += z_g
+            loc.gap += z_g
             out.loci[name] = loc
             out.contacts[name] = [
                 self._refine(loc, i, centre, R)

@@ -217,7 +217,7 @@ class Equilibrium:
                 # no descent along the Newton direction: the mesh indentation jumps here.
                 # Accept when the residual is within the node resolution of the contacts (a
                 # node entering a volume of n nodes moves its force by ~1/n)
-                ok = self._small(dq, self.noise_tol(kc)) and all(cs.values())
+                ok = self._small(dq, 4.0 * self.noise_tol(kc)) and all(cs.values())
                 return q, ok, R, cs
             q, R, J, cs = qn, Rn, Jn, csn
         return q, False, R, cs
