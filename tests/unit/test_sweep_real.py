@@ -16,7 +16,7 @@ import csv
 import pytest
 
 from lutmpi.cli import main as cli
-from tests.unit.test_sweep_report import _env, _index, _recompute
+from tests.unit.test_sweep_report import _index, _recompute, _sweep_mpi
 
 SWEEP = """
 [base.wheel]
@@ -40,7 +40,7 @@ def test_real_solver_errors_fall_with_refinement(tmp_path):
     sweep = tmp_path / "conv.toml"
     sweep.write_text(SWEEP)
     out, rep = tmp_path / "out", tmp_path / "rep"
-    proc = _real_sweep(sweep, out)
+    proc = _sweep_mpi(sweep, out, solver=None, timeout=400)
     assert proc.returncode == 0, proc.stderr[-3000:]
     index = _index(out)
     assert len(index) == 7 and all(m["status"] == "ok" for m in index.values()), index
@@ -58,18 +58,3 @@ def test_real_solver_errors_fall_with_refinement(tmp_path):
         assert float(row["z_g_max_mm"]) == pytest.approx(direct["z_g"], rel=1e-12)
         assert float(row["wheel_s_max_mm"]) == pytest.approx(direct["wheel_s"], rel=1e-12)
 
-
-def _real_sweep(sweep, out):
-    import shutil
-    import subprocess
-    import sys
-
-    from lutmpi.paths import REPO_ROOT
-
-    mpirun = shutil.which("mpirun")
-    if mpirun is None:
-        pytest.skip("mpirun not found")
-    cmd = [mpirun, "-n", "2", sys.executable, "-m", "lutmpi.cli", "sweep", str(sweep), "-o",
-           str(out)]
-    return subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=400,
-                          cwd=REPO_ROOT)

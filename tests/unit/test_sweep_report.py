@@ -49,14 +49,16 @@ def _env(**extra: str) -> dict[str, str]:
     return env
 
 
-def _sweep_mpi(sweep: Path, out: Path, n: int = 2, **extra: str) -> subprocess.CompletedProcess:
+def _sweep_mpi(sweep: Path, out: Path, n: int = 2, solver: str | None = SOLVER,
+               timeout: float = 240, **extra: str) -> subprocess.CompletedProcess:
+    """``mpirun -n n lutmpi sweep``; ``solver=None`` runs the production solver."""
     mpirun = shutil.which("mpirun")
     if mpirun is None:
         pytest.skip("mpirun not found")
     cmd = [mpirun, "-n", str(n), sys.executable, "-m", "lutmpi.cli", "sweep", str(sweep), "-o",
-           str(out), "--solver", SOLVER]
-    return subprocess.run(cmd, env=_env(**extra), capture_output=True, text=True, timeout=240,
-                          cwd=REPO_ROOT)
+           str(out)] + (["--solver", solver] if solver else [])
+    return subprocess.run(cmd, env=_env(**extra), capture_output=True, text=True,
+                          timeout=timeout, cwd=REPO_ROOT)
 
 
 def _index(out: Path) -> dict[str, dict]:
