@@ -221,7 +221,8 @@ def test_wear_sweep_expands_against_the_measured_profiles(tmp_path):
     specs = expand_sweep(tmp_path / "configs" / "wear_sweep.toml")
     ids = [s.id for s in specs]
     assert len(ids) == len(set(ids)) == 4 + 8 + 4 + 4 + 4
-    assert "w-Car7216_0001r" in ids and "w-avg_wheel__r-avg_low2__inc-1in40__gauge_depth_mm-10" in ids
+    assert "w-Car7216_0001r" in ids
+    assert "w-avg_wheel__r-avg_low2__inc-1in40__gauge_depth_mm-10" in ids
     wheels = {s.config.wheel.profile.name for s in specs if s.config.wheel.profile}
     assert wheels == set(names[:4])
     hollow = [s for s in specs if s.config.wear.wheel.tread_hollowing_mm > 0]
