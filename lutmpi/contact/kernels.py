@@ -430,8 +430,8 @@ def window_wheel_nodes(side, ks, mc, mh, s, r, dr, d, dphi, centre, R, u0, du, t
 def window_rail_nodes(side, k, m, tp, ru, rz, rnu, rnz, h_x, ws, wr, d, dphi, centre, R, KN,
                       filt):
     """Rail nodes in the box spanned by the window's wheel nodes (two nodes of margin); with
-    ``filt``, only those whose nearest wheel node is (next to) a window node. Returns (l, j,
-    track points, track normals)."""
+    ``filt``, only those whose nearest wheel node is (next to) a window node. Returns (track
+    points, track normals)."""
     n = k.size
     umin, umax, xmin, xmax = np.inf, -np.inf, np.inf, -np.inf
     for i in range(n):
@@ -450,8 +450,6 @@ def window_rail_nodes(side, k, m, tp, ru, rz, rnu, rnz, h_x, ws, wr, d, dphi, ce
             for b in range(-1, 2):
                 grid[k[i] - k0 + a, m[i] - m0 + b] = True
     total = (l_hi - l_lo + 1) * (j_hi - j_lo + 1)
-    L = np.empty(total, dtype=np.int64)
-    J = np.empty(total, dtype=np.int64)
     P = np.empty((total, 3))
     N = np.zeros((total, 3))
     cnt = 0
@@ -468,8 +466,7 @@ def window_rail_nodes(side, k, m, tp, ru, rz, rnu, rnz, h_x, ws, wr, d, dphi, ce
                 ik, im = kk - k0, mm - m0
                 if ik < 0 or ik >= gk or im < 0 or im >= gm or not grid[ik, im]:
                     continue
-            L[cnt], J[cnt] = ll, jj
             P[cnt, 0], P[cnt, 1], P[cnt, 2] = px, py, pz
             N[cnt, 1], N[cnt, 2] = side * rnu[ll], rnz[ll]
             cnt += 1
-    return L[:cnt], J[:cnt], P[:cnt], N[:cnt]
+    return P[:cnt], N[:cnt]

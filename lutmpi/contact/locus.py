@@ -79,13 +79,9 @@ def compute_locus(
     rail: PlacedRail,
     centre: np.ndarray,
     R: np.ndarray,
-    idx: np.ndarray | None = None,
 ) -> Locus:
-    """Locus points and vertical gaps of one wheel at the pose (``centre``, ``R``); ``idx``
-    restricts the computation to a subset of the samples."""
-    s, r, dr = (
-        (samp.s, samp.r, samp.dr) if idx is None else (samp.s[idx], samp.r[idx], samp.dr[idx])
-    )
+    """Locus points and vertical gaps of one wheel at the pose (``centre``, ``R``)."""
+    s, r, dr = samp.s, samp.r, samp.dr
     phi = locus_angles(side, dr, R)
     pts = centre + wheel_points_body(side, s, r, phi, wheel.d) @ R.T
     u = side * pts[:, 1]
@@ -206,8 +202,7 @@ class LocusSolver:
         gap = np.empty(idx.size)
         rail = self.rail
         hl, hr = locus_heights(idx, self.samp.s.size, self._side2, self._s2, self._r2,
-                               self._dr2, self.wheel.d, R, y, rail._tab_u[0],
-                               rail._tab_u[1] - rail._tab_u[0], rail._tab_z, rail.u_min,
+                               self._dr2, self.wheel.d, R, y, *rail.height_table, rail.u_min,
                                rail.u_max, gap)
         self._last_gap = gap
         return hl, hr

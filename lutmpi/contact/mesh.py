@@ -15,18 +15,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from lutmpi.contact.kernels import window_rail_nodes, window_wheel_nodes
 from lutmpi.geometry.track import PlacedRail, WheelGeometry
 
 
-def _arc_grid(x: np.ndarray, z: np.ndarray, x_anchor: float, h: float) -> tuple[np.ndarray, int]:
+def _arc_grid(x: np.ndarray, z: np.ndarray, x_anchor: float, h: float) -> np.ndarray:
     """Abscissae of nodes spaced ``h`` in arc length along the curve ``(x, z)`` (dense samples),
-    anchored so that a node falls on ``x_anchor``. Returns (node abscissae, index of the first)."""
+    anchored so that a node falls on ``x_anchor``."""
     lam = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
     lam0 = np.interp(x_anchor, x, lam)
     k_lo = int(np.ceil((lam[0] - lam0) / h))
     k_hi = int(np.floor((lam[-1] - lam0) / h))
     ks = np.arange(k_lo, k_hi + 1)
-    return np.interp(lam0 + ks * h, lam, x), k_lo
+    return np.interp(lam0 + ks * h, lam, x)
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,7 +40,6 @@ class WheelMesh:
     s: np.ndarray  # (nk,) profile coordinate of each slice, m
     r: np.ndarray  # (nk,) radius, m
     dr: np.ndarray  # (nk,) d r / d s
-    k0: int  # global index of slice 0
     dphi: float  # rad
     tab_s: np.ndarray  # dense table of s (10 µm) ...
     tab_dr: np.ndarray  # ... and d r / d s, for the wheel normal off the nodes (both kernels)
@@ -47,7 +47,7 @@ class WheelMesh:
     @classmethod
     def build(cls, wheel: WheelGeometry, h_lat: float, h_circ: float) -> WheelMesh:
         xs = np.linspace(wheel.s_min, wheel.s_max, 20000)
-        s, k0 = _arc_grid(xs, wheel.profile.z_at(xs), 0.0, h_lat)
+        s = _arc_grid(xs, wheel.profile.z_at(xs), 0.0, h_lat)
         tab_s = np.linspace(wheel.s_min, wheel.s_max, int((wheel.s_max - wheel.s_min) / 1e-5) + 2)
         return cls(
             wheel=wheel,
@@ -56,7 +56,6 @@ class WheelMesh:
             s=s,
             r=wheel.radius(s),
             dr=wheel.dr(s),
-            k0=k0,
             dphi=h_circ / wheel.r0,
             tab_s=tab_s,
             tab_dr=wheel.dr(tab_s),
@@ -106,7 +105,7 @@ class RailMesh:
     def build(cls, rail: PlacedRail, h_lat: float, h_x: float) -> RailMesh:
         us = np.linspace(rail.u_min, rail.u_max, 20000)
         u_top = float(us[np.argmax(rail.height(us))])
-        u, _ = _arc_grid(us, rail.height(us), u_top, h_lat)
+        u = _arc_grid(us, rail.height(us), u_top, h_lat)
         z = rail.height(u)
         sl = rail.slope(u)
         inv = 1.0 / np.sqrt(1.0 + sl * sl)
@@ -125,7 +124,7 @@ class Window:
     """The part of both meshes where contact can happen for one wheel at one pose.
 
     Wheel nodes are given by (slice ``k``, angle ``m``) with their wheelset-frame positions and
-    normals; rail nodes by (profile node ``l``, longitudinal ``j``) with track-frame positions.
+    normals; rail nodes by their track-frame positions and normals.
     """
 
     side: float
@@ -133,15 +132,8 @@ class Window:
     m: np.ndarray
     body_pts: np.ndarray
     body_nrm: np.ndarray
-    rail_l: np.ndarray
-    rail_j: np.ndarray
     rail_pts: np.ndarray  # (n, 3) track frame
     rail_nrm: np.ndarray  # (n, 3) track frame
-    gap: float  # window depth used, m
-
-    @property
-    def n_nodes(self) -> int:
-        return int(self.k.size + self.rail_l.size)
 
 
 def build_window(
@@ -179,30 +171,15 @@ def build_window(
         half_arc = np.sqrt(2.0 * (wmesh.r[ks] / 0.2) * depth) + 2.0 * wmesh.h_circ
     mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
     mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
-    from lutmpi.contact.kernels import window_rail_nodes, window_wheel_nodes
-
     rail = rmesh.rail
     k, m, pts, nrm, tp = window_wheel_nodes(
         side, ks.astype(np.int64), mc.astype(np.int64), mh.astype(np.int64), wmesh.s, wmesh.r,
-        wmesh.dr, wmesh.wheel.d, wmesh.dphi, centre, R, rail._tab_u[0],
-        rail._tab_u[1] - rail._tab_u[0], rail._tab_z, rail.u_min, rail.u_max, gmin + depth,
-        not full)
+        wmesh.dr, wmesh.wheel.d, wmesh.dphi, centre, R, *rail.height_table, rail.u_min,
+        rail.u_max, gmin + depth, not full)
     if with_rail and k.size:
-        rl, rj, rp, rn = window_rail_nodes(
+        rp, rn = window_rail_nodes(
             side, k, m, tp, rmesh.u, rmesh.z, rmesh.nu, rmesh.nz, rmesh.h_x, wmesh.s, wmesh.r,
             wmesh.wheel.d, wmesh.dphi, centre, R, 3, not full)
     else:
-        rl = rj = np.zeros(0, dtype=np.int64)
         rp = rn = np.zeros((0, 3))
-    return Window(
-        side=side,
-        k=k,
-        m=m,
-        body_pts=pts,
-        body_nrm=nrm,
-        rail_l=rl,
-        rail_j=rj,
-        rail_pts=rp,
-        rail_nrm=rn,
-        gap=depth,
-    )
+    return Window(side=side, k=k, m=m, body_pts=pts, body_nrm=nrm, rail_pts=rp, rail_nrm=rn)
