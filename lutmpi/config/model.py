@@ -19,7 +19,7 @@ EQUILIBRIUM_SOLVERS = ("newton", "fixed_point")
 # the dataset names of ``lutmpi/table/schema.py``. ALWAYS_STORED are written whatever is selected.
 QUANTITIES = ("z_g", "roll", "x_g", "pitch", "wheel_point", "rail_point", "normal", "indentation",
               "kc", "rolling_radius", "contact_angle", "wheel_s", "rail_v", "curvatures",
-              "n_contacts", "force")
+              "n_contacts", "force", "n_roots")
 ALWAYS_STORED = ("status", "iterations", "compute_time")
 
 

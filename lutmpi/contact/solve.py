@@ -24,6 +24,7 @@ from lutmpi.contact.stiffness import flange_kc_scale
 from lutmpi.equilibrium.result import (
     CONVERGED,
     NO_CONTACT,
+    PROFILE_END,
     STATUS,
     WINDOW,
     ContactResult,
@@ -71,13 +72,24 @@ def solve_pose(
         res = _reference_result(scene, rigid, method)
     else:
         res = _mesh_result(scene, rigid, method, full_mesh)
+    res.n_roots = rigid.n_roots
+    if rigid.success and rigid.at_end:
+        # the data do not reach the contact: the numbers are kept, the status says why
+        res.success, res.status = False, PROFILE_END
+        res.message = f"{STATUS[PROFILE_END]} ({_end_text(rigid)})"
     res.time = time.process_time() - t0
     return res
 
 
+def _end_text(rigid: RigidSolution) -> str:
+    ends = [f"{name} wheel s = {c.s * 1e3:.2f} mm" for name, cs in rigid.contacts.items()
+            for c in cs if c.at_end]
+    return "contact at the end of the data: " + ", ".join(ends)
+
+
 # -- shared per-contact outputs ---------------------------------------------------------------
 def _contact_record(
-    scene,
+    sd,
     side: float,
     wheel_point: np.ndarray,
     rail_point: np.ndarray,
@@ -86,7 +98,7 @@ def _contact_record(
     s: float,
     kc: float,
 ) -> ContactResult:
-    wheel, rail = scene.wheel, scene.rail
+    wheel, rail = sd.wheel, sd.rail
     u_r = side * rail_point[1]
     dr = float(wheel.dr(s))
     r = float(wheel.radius(s))
@@ -122,44 +134,46 @@ def _reference_result(scene, rigid: RigidSolution, method: str) -> PoseResult:
         nit=rigid.nit,
         indentation=0.0,
     )
-    rail = scene.rail
     for name, side in SIDE_SIGN.items():
+        sd = scene.side(name)
+        rail = sd.rail
         for c in rigid.contacts[name]:
             u = float(np.clip(c.u, rail.u_min, rail.u_max))
             sl = float(rail.slope(u))
             n = np.array([0.0, side * -sl, 1.0]) / np.hypot(1.0, sl)
             rp = np.array([c.point[0], side * u, float(rail.height(u))])
             res.contacts[name].append(
-                _contact_record(scene, side, c.point, rp, n, max(-c.gap, 0.0), c.s, np.nan)
+                _contact_record(sd, side, c.point, rp, n, max(-c.gap, 0.0), c.s, np.nan)
             )
     return res
 
 
 # -- mesh methods ---------------------------------------------------------------------------
-def _flange_factor(scene, s: float) -> float:
-    """k_c factor of §4.5 at wheel profile coordinate ``s`` (1 on the tread)."""
+def _flange_factor(scene, name: str, s: float) -> float:
+    """k_c factor of §4.5 at profile coordinate ``s`` of wheel ``name`` (1 on the tread)."""
     st = scene.settings
     if not st.flange or s >= 0.0:  # the flange is on the s < 0 side of the tape circle
         return 1.0
-    samp = scene.locus.samp
-    r = float(np.interp(s, samp.s, samp.r))
-    return float(flange_kc_scale(r, st.flange_base_radius, st.flange_tip_radius, st.chi))
+    sd = scene.side(name)
+    r = sd.flange_radius(s)
+    return float(flange_kc_scale(r, sd.flange_base_radius, sd.flange_tip_radius, st.chi))
 
 
-def _rigid_angle(scene, c) -> float:
+def _rigid_angle(scene, name: str, c) -> float:
     """Contact angle of a rigid (locus) contact from the rail slope at its lateral position."""
-    u = float(np.clip(c.u, scene.rail.u_min, scene.rail.u_max))
-    return float(np.arctan(scene.rail.slope(u)))
+    rail = scene.side(name).rail
+    u = float(np.clip(c.u, rail.u_min, rail.u_max))
+    return float(np.arctan(rail.slope(u)))
 
 
 def _windows(
     scene, rigid: RigidSolution, method: str, depth: float, full: bool
 ) -> dict[str, Window]:
-    wm, rm = scene.wheel_mesh, scene.rail_mesh
     centre = np.array([0.0, rigid.y, rigid.z_g])
     R = wheelset_rotation(rigid.yaw, rigid.roll)
     out = {}
     for name, side in SIDE_SIGN.items():
+        wm, rm = scene.side(name).wheel_mesh, scene.side(name).rail_mesh
         # the locus at the rigid pose, sampled every 0.1 mm, interpolated at the mesh slices
         # (window selection only: the interpolation error is a few nm of gap)
         loc = rigid.loci[name]
@@ -177,12 +191,13 @@ def _windows(
 def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseResult:
     eq = scene.equilibrium
     f_min = min(
-        (_flange_factor(scene, c.s) for cs in rigid.contacts.values() for c in cs), default=1.0
+        (_flange_factor(scene, name, c.s) for name, cs in rigid.contacts.items() for c in cs),
+        default=1.0,
     )
     # window depth: the margin plus twice the vertical approach of the softest contact at the
     # first k_c (normal approach W / (k f) over cos of the steepest contact angle)
-    n_z = min((abs(np.cos(_rigid_angle(scene, c))) for cs in rigid.contacts.values() for c in cs),
-              default=1.0)
+    n_z = min((abs(np.cos(_rigid_angle(scene, name, c)))
+               for name, cs in rigid.contacts.items() for c in cs), default=1.0)
     depth = scene.settings.window_gap + 2.0 * eq.load / (eq.kc0 * f_min * max(n_z, 0.2))
     for _ in range(3):
         wins = _windows(scene, rigid, method, depth, full or not scene.settings.window)
@@ -192,7 +207,7 @@ def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseRe
             rigid.yaw,
             np.array([rigid.z_g, rigid.roll]),
             eq,
-            lever=scene.wheel.d,
+            lever=scene.lever,
             fmin=f_min,
             rate=INDENTATION_RATE[method],
             nz_min=n_z,
@@ -202,8 +217,8 @@ def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseRe
         # window had a rigid gap above ``depth``, so none of them can be in contact unless a
         # wheel moved that far
         dz, dr = out.q[0] - rigid.z_g, out.q[1] - rigid.roll
-        moved = max(abs(dz + sd * scene.wheel.d * dr) for sd in SIDE_SIGN.values()) \
-            + 0.1 * abs(dr)
+        moved = max(abs(dz + sd * scene.side(name).wheel.d * dr)
+                    for name, sd in SIDE_SIGN.items()) + 0.1 * abs(dr)
         if full or not scene.settings.window or moved < depth:
             break
         depth *= 4.0  # the pose left the window's depth: widen it and solve again
@@ -213,7 +228,6 @@ def _mesh_result(scene, rigid: RigidSolution, method: str, full: bool) -> PoseRe
 
 
 def _evaluator(scene, wins: dict[str, Window], method: str, rigid: RigidSolution):
-    wm, rm = scene.wheel_mesh, scene.rail_mesh
     mc = scene.settings.max_contacts
 
     def evaluate(q: np.ndarray) -> dict[str, list[ContactForce]]:
@@ -221,6 +235,7 @@ def _evaluator(scene, wins: dict[str, Window], method: str, rigid: RigidSolution
         R = wheelset_rotation(rigid.yaw, q[1])
         out = {}
         for name, win in wins.items():
+            wm, rm = scene.side(name).wheel_mesh, scene.side(name).rail_mesh
             if scene.settings.compiled:
                 cs = wheel_contacts_compiled(method, win, wm, rm, centre, R, mc)
             else:
@@ -230,7 +245,7 @@ def _evaluator(scene, wins: dict[str, Window], method: str, rigid: RigidSolution
                     point=c.wheel_point,
                     normal=-c.n_wheel,
                     indentation=c.indentation,
-                    factor=_flange_factor(scene, c.s),
+                    factor=_flange_factor(scene, name, c.s),
                     data=c,
                     nodes=c.n_wheel_nodes,
                     rate=INDENTATION_RATE[method],
@@ -272,7 +287,8 @@ def _pose_from_equilibrium(scene, rigid: RigidSolution, method: str, out) -> Pos
             M += np.cross(cf.point - G, f)
             res.contacts[name].append(
                 _contact_record(
-                    scene, side, c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k
+                    scene.side(name), side, c.wheel_point, c.rail_point, cf.normal,
+                    c.indentation, c.s, k
                 )
             )
     res.x_g = float(-F[0] / eq.k_el)  # eq. (1): the x spring carries the longitudinal force
