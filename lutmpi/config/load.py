@@ -34,10 +34,12 @@ from typing import Any
 from lutmpi.config.model import (
     ALL_METHODS,
     EQUILIBRIUM_SOLVERS,
-    INCLINATIONS,
+    GAUGE_POINTS,
     QUANTITIES,
     RAIL_GENERATORS,
+    SIDE_NAMES,
     WHEEL_GENERATORS,
+    WHEEL_ORIGINS,
     Config,
 )
 from lutmpi.errors import ConfigError
@@ -95,7 +97,13 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "wheel.generator": _one_of(WHEEL_GENERATORS),
     "wheel.nominal_radius_mm": _closed(100.0, 1000.0),
     "rail.generator": _one_of(RAIL_GENERATORS),
-    "rail.inclination": _one_of(INCLINATIONS),
+    "rail.inclination": ((lambda v: v is not None), "see _as_cant"),
+    "wheel.origin": _one_of(WHEEL_ORIGINS),
+    "wheel.offset_y_mm": _closed(-200.0, 200.0),
+    "wheel.offset_z_mm": _closed(-200.0, 200.0),
+    "rail.offset_y_mm": _closed(-200.0, 200.0),
+    "rail.offset_z_mm": _closed(-200.0, 200.0),
+    "rail.gauge_depth_mm": _open_closed(0.0, 30.0),
     "track.gauge_mm": _closed(500.0, 2000.0),
     "track.gauge_depth_mm": _open_closed(0.0, 30.0),
     "wheelset.back_to_back_mm": _open_closed(0.0, 2000.0),
@@ -105,7 +113,6 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "mesh.rail_lateral_mm": _open_closed(0.0, 20.0),
     "mesh.rail_longitudinal_mm": _open_closed(0.0, 20.0),
     "mesh.window_gap_mm": _open_closed(0.0, 50.0),
-    "mesh.window_margin_mm": _closed(0.0, 100.0),
     "contact.method": _one_of(ALL_METHODS),
     "contact.allowed_indentation_mm": _open_closed(0.0, 1.0),
     "contact.max_contacts_per_wheel": ((lambda v: v in (1, 2)), "1 or 2"),
@@ -118,14 +125,22 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "equilibrium.solver": _one_of(EQUILIBRIUM_SOLVERS),
     "material.young_GPa": _open_closed(0.0, 1000.0),
     "material.poisson": ((lambda v: 0.0 < v < 0.5), "a number in (0, 0.5)"),
-    "flange.cantilever_b_mm": _positive(),
-    "flange.cantilever_h_mm": _positive(),
-    "flange.cantilever_l_mm": _positive(),
     "flange.base_height_mm": _closed(0.0, 50.0),
     "wear.wheel.flange_thinning_mm": _closed(0.0, 15.0),
     "wear.wheel.tread_hollowing_mm": _closed(0.0, 10.0),
     "wear.rail.vertical_mm": _closed(0.0, 30.0),
     "wear.rail.side_mm": _closed(0.0, 30.0),
+}
+# keys that were accepted once but never changed a result (issue 15): an old config that sets
+# one gets an error that says so, not a silent no-op
+REMOVED_KEYS = {
+    "flange.cantilever_b_mm": "the flange stiffness uses the paper's chi = 0.082 "
+                              "(lutmpi/contact/stiffness.py), never the Table 1 cantilever",
+    "flange.cantilever_h_mm": "the flange stiffness uses the paper's chi = 0.082 "
+                              "(lutmpi/contact/stiffness.py), never the Table 1 cantilever",
+    "flange.cantilever_l_mm": "the flange stiffness uses the paper's chi = 0.082 "
+                              "(lutmpi/contact/stiffness.py), never the Table 1 cantilever",
+    "mesh.window_margin_mm": "the window depth is mesh.window_gap_mm; no lateral margin is used",
 }
 # grid axes: key -> (largest |value|, unit)
 _GRID_LIMITS = {"grid.y_mm": (100.0, "mm"), "grid.yaw_rad": (0.5, "rad")}
@@ -230,16 +245,21 @@ def _as_bool(value: Any, key: str, where: _Where) -> bool:
 
 
 def _as_axis(value: Any, key: str, where: _Where) -> tuple[float, float, int]:
-    """``[start, stop, count]`` with start < stop, 2 <= count, inside the axis limits."""
+    """``[start, stop, count]`` with start < stop and 2 <= count, or start == stop and
+    count == 1 (a one-value axis: ``yaw_rad = [0.0, 0.0, 1]`` makes a 1-D table in y);
+    inside the axis limits."""
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise _expect(where, key, "[start, stop, count]", value)
     start = _as_float(value[0], key, where)
     stop = _as_float(value[1], key, where)
     count = _as_int(value[2], key, where)
     limit, unit = _GRID_LIMITS[key]
-    if not start < stop:
-        raise where.error(key, f"expected start < stop, got start={start:g}, stop={stop:g}")
-    if not 2 <= count <= MAX_GRID_COUNT:
+    if count == 1 and start == stop:
+        pass
+    elif not start < stop:
+        raise where.error(key, f"expected start < stop (or start == stop with count 1), got "
+                               f"start={start:g}, stop={stop:g}")
+    elif not 2 <= count <= MAX_GRID_COUNT:
         raise where.error(key, f"expected a count in [2, {MAX_GRID_COUNT}], got {count}")
     if max(abs(start), abs(stop)) > limit:
         raise where.error(key, f"expected values within ±{limit:g} {unit}, "
@@ -254,6 +274,40 @@ def _as_names(value: Any, key: str, where: _Where) -> tuple[str, ...]:
     if len(set(names)) != len(names):
         raise where.error(key, f"expected distinct names, got {list(names)!r}")
     return names
+
+
+def _as_cant(value: Any, key: str, where: _Where) -> str | float:
+    """A rail cant: ``"1:N"`` (N >= 5), ``"none"``, or a number in rad within [-0.2, 0.2]."""
+    expected = 'a cant "1:N" (N >= 5), "none", or a number in rad within [-0.2, 0.2]'
+    if isinstance(value, str):
+        text = value.strip()
+        if text == "none":
+            return "none"
+        head, _, tail = text.partition(":")
+        try:
+            n = float(tail)
+        except ValueError:
+            raise _expect(where, key, expected, value) from None
+        if head.strip() != "1" or not math.isfinite(n) or n < 5:
+            raise _expect(where, key, expected, value)
+        return f"1:{tail.strip()}"
+    out = _as_float(value, key, where)
+    if abs(out) > 0.2:
+        raise _expect(where, key, expected, value)
+    return out
+
+
+def _as_gauge_point(value: Any, key: str, where: _Where) -> str | float:
+    """``"depth"``, ``"first"``, ``"last"`` (a point of the file) or a lateral coordinate, mm."""
+    if isinstance(value, str):
+        if value not in GAUGE_POINTS:
+            raise _expect(where, key, "one of " + ", ".join(repr(g) for g in GAUGE_POINTS)
+                          + " or a lateral coordinate in mm", value)
+        return value
+    out = _as_float(value, key, where)
+    if abs(out) > 200.0:
+        raise _expect(where, key, "a lateral coordinate within ±200 mm", value)
+    return out
 
 
 def _as_profile(value: Any, key: str, where: _Where) -> Path:
@@ -287,7 +341,20 @@ _CONVERTERS: dict[Any, typing.Callable[[Any, str, _Where], Any]] = {
     Path | None: _as_profile,
     tuple[float, float, int]: _as_axis,
     tuple[str, ...]: _as_names,
+    float | None: _as_float,
+    bool | None: _as_bool,
+    str | float: _as_cant,
+    str | float | None: _as_cant,
 }
+_GAUGE_POINT_KEYS = {"rail.gauge_point", "rail.left.gauge_point", "rail.right.gauge_point"}
+
+
+def _rule_key(key: str) -> str:
+    """``wheel.left.nominal_radius_mm`` -> ``wheel.nominal_radius_mm`` (side keys share rules)."""
+    parts = key.split(".")
+    if len(parts) == 3 and parts[0] in ("wheel", "rail") and parts[1] in SIDE_NAMES:
+        return f"{parts[0]}.{parts[2]}"
+    return key
 
 
 def _build(cls: type, table: Any, prefix: str, where: _Where) -> Any:
@@ -296,6 +363,9 @@ def _build(cls: type, table: Any, prefix: str, where: _Where) -> Any:
         raise _expect(where, prefix, f"a table [{prefix}]", table)
     fields = section_fields(cls)
     for key in table:
+        if f"{prefix}.{key}" in REMOVED_KEYS:
+            raise where.error(f"{prefix}.{key}", "this key was removed: "
+                              + REMOVED_KEYS[f"{prefix}.{key}"] + "; delete it from the config")
         if key not in fields:
             valid = ", ".join(fields)
             raise where.error(f"{prefix}.{key}", f"unknown key in [{prefix}]; valid keys: {valid}")
@@ -310,26 +380,46 @@ def _build(cls: type, table: Any, prefix: str, where: _Where) -> Any:
 
 
 def _convert(hint: Any, value: Any, key: str, where: _Where) -> Any:
-    converter = _CONVERTERS.get(hint)
+    converter = _as_gauge_point if key in _GAUGE_POINT_KEYS else _CONVERTERS.get(hint)
     if converter is None:   # a field type added to model.py without a converter: programming error
         raise TypeError(f"no TOML converter for {key} of type {hint!r}")
-    if value is None and hint in (str | None, Path | None):
+    if value is None and hint in (str | None, Path | None, float | None, bool | None):
         return None
     out = converter(value, key, where)
-    rule = _RULES.get(key)
+    rule = _RULES.get(_rule_key(key))
     if rule is not None and not rule[0](out):
         raise _expect(where, key, rule[1], value)
     return out
 
 
 def _check_source(section: Any, name: str, where: _Where) -> None:
+    """One section's own source keys: not both profile and generator, no format for a
+    generator."""
     if section.profile is not None and section.generator is not None:
         raise where.error(name, "give either 'profile' (a file) or 'generator', not both")
-    if section.profile is None and section.generator is None:
-        raise where.error(name, "expected 'profile = \"path\"' or 'generator = \"...\"', "
-                                "got neither")
     if section.generator is not None and section.format is not None:
         raise where.error(f"{name}.format", "'format' applies to a profile file, not a generator")
+
+
+def _check_sides(base: Any, name: str, where: _Where) -> None:
+    """``[wheel]`` / ``[rail]`` and their side sections: each side must end up with exactly one
+    source (its own or the base's)."""
+    _check_source(base, name, where)
+    for side in SIDE_NAMES:
+        _check_source(getattr(base, side), f"{name}.{side}", where)
+    for side in SIDE_NAMES:
+        res = base.side(side)
+        if res.profile is None and res.generator is None:
+            if not base.per_side:
+                raise where.error(name, "expected 'profile = \"path\"' or "
+                                        "'generator = \"...\"', got neither")
+            other = SIDE_NAMES[1 - SIDE_NAMES.index(side)]
+            raise where.error(f"{name}.{side}", f"the {side} {name} has no profile: [{name}] "
+                              f"gives none and [{name}.{side}] is missing or gives none "
+                              f"(while [{name}.{other}] is given)")
+        if res.generator is not None and res.format is not None:
+            raise where.error(f"{name}.{side}.format",
+                              "'format' applies to a profile file, not a generator")
 
 
 def _check_output(cfg: Config, where: _Where) -> None:
@@ -349,8 +439,8 @@ def _check_output(cfg: Config, where: _Where) -> None:
 
 def _check_cross(cfg: Config, where: _Where) -> None:
     """Rules that involve more than one key."""
-    _check_source(cfg.wheel, "wheel", where)
-    _check_source(cfg.rail, "rail", where)
+    _check_sides(cfg.wheel, "wheel", where)
+    _check_sides(cfg.rail, "rail", where)
     need = cfg.wheelset.back_to_back_mm + 2.0 * MIN_FLANGE_THICKNESS_MM
     if cfg.track.gauge_mm <= need:
         raise where.error("track.gauge_mm", f"expected gauge > back_to_back_mm + 2 x "
