@@ -41,7 +41,7 @@ import numpy as np
 from lutmpi import __version__
 from lutmpi.config.model import ALL_METHODS, Config
 from lutmpi.equilibrium.result import STATUS
-from lutmpi.errors import BuildInterruptedError, ConfigError
+from lutmpi.errors import BuildInterruptedError, ConfigError, LutmpiError
 from lutmpi.parallel import partition
 from lutmpi.parallel.comm import SelfComm, root_decides
 from lutmpi.parallel.workqueue import make_counter
@@ -202,7 +202,8 @@ def _abort(comm: Any, exc: BaseException) -> None:
                      "so far: rerun with --resume", comm.rank, comm.size, exc)
     else:
         log.critical("rank %d/%d failed: %s: %s%s -- aborting the job", comm.rank, comm.size,
-                     type(exc).__name__, exc, f" ({notes})" if notes else "", exc_info=exc)
+                     type(exc).__name__, exc, f" ({notes})" if notes else "",
+                     exc_info=None if isinstance(exc, LutmpiError) else exc)
     for handler in logging.getLogger().handlers:
         handler.flush()
     comm.Abort(1)
