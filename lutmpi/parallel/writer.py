@@ -81,6 +81,9 @@ class TableWriter:
     def __init__(self, out: str | os.PathLike[str], comm: Any, grid: Grid,
                  methods: Sequence[str], fields: Sequence[Field], inputs: dict[str, Any],
                  sync_interval_s: float = 10.0):
+        if not str(out).strip() or not Path(out).name:   # same on every rank: no collective yet
+            raise TableError(f"the output path {str(out)!r} names no file; give one such as "
+                             "-o table.h5")
         self.out = Path(out)
         self.partial = h5io.partial_path(self.out)
         self.journal_dir = journal.journal_dir(self.out)
@@ -262,8 +265,6 @@ class TableWriter:
 
 def check_output_target(out: Path) -> None:
     """The output path itself is usable: not empty, not a folder, its folder exists."""
-    if str(out) in ("", "."):
-        raise TableError("the output path is empty; give a file name such as -o table.h5")
     if out.is_dir():
         raise TableError(f"{out} is a folder; give a file name inside it, e.g. {out / 'table.h5'}")
     for related in (lock_path(out),):
