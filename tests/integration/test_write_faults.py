@@ -211,3 +211,29 @@ def test_second_build_on_same_output_refused_at_once_first_completes(reference, 
     assert first.returncode == 0, stderr
     assert differences(ref, out) == []
     assert not out.with_name(out.name + ".lock").exists()
+
+
+# -- Ctrl-C / SIGTERM ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize(("ranks", "sig"), [(1, signal.SIGINT), (2, signal.SIGINT),
+                                            (2, signal.SIGTERM)])
+def test_signal_ends_build_with_a_message_and_the_partial_resumes(reference, tmp_path, ranks,
+                                                                   sig):
+    """Ctrl-C on one process, SIGINT/SIGTERM to mpirun: a message saying so, no traceback, and the
+    journal resumes to the fresh table."""
+    cfg, ref = reference
+    out = tmp_path / "t.h5"
+    proc = start_build(cfg, out, ranks, LUTMPI_FAULT=SLOW)
+    _wait_for_points(proc, out, 4)
+    proc.send_signal(sig)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode != 0
+    if ranks == 1:
+        assert proc.returncode == 128 + sig
+    assert re.search(r"interrupted by SIG(INT|TERM)", stderr), stderr
+    assert "rerun with --resume" in stderr and "Traceback" not in stderr
+    assert not out.exists()
+    res = build(cfg, out, 1, "--resume")
+    assert res.returncode == 0, res.stderr
+    assert _counts(res.stderr)[1] >= 4
+    assert differences(ref, out) == []
