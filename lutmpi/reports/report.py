@@ -262,6 +262,56 @@ def _wear(data: SweepData, report: Path) -> list[str]:
     return rows + [""] + [f"![{f}]({f})" for f in figs] + [""]
 
 
+def _sweep_axis(data: SweepData, ids: list[str]) -> tuple[str, list[float], list[str] | None]:
+    """The member parameter to plot the indices against: the one numeric parameter that varies
+    (its values), else the member IDs as categories."""
+    params = {e["id"]: (e.get("params") or {}) for e in data.index}
+    base = [i.split("/")[0] for i in ids]
+    keys = sorted({k for i in base for k in params.get(i, {})})
+    varying = [k for k in keys if len({json.dumps(params[i].get(k)) for i in base}) > 1]
+    if len(varying) == 1 and all(isinstance(params[i].get(varying[0]), int | float)
+                                 for i in base):
+        return varying[0], [float(params[i][varying[0]]) for i in base], None
+    return "member", list(range(len(ids))), ids
+
+
+def _sweep_indices(data: SweepData, report: Path) -> list[str]:
+    """One CSV (``indices.csv``) and one plot per index against the member's parameter."""
+    from lutmpi.reports import geometry_plots as gp
+    from lutmpi.reports import indices as ix
+
+    rows, ids = [], []
+    for t in data.tables:
+        try:
+            y, dr = con.dr_from_table(t.table, t.method)
+        except ValueError:
+            continue
+        found = ix.indices(y, dr)
+        rows.append(found.row())
+        ids.append(t.id)
+    if not rows:
+        return []
+    key, xs, labels = _sweep_axis(data, ids)
+    with open(report / "indices.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["member", key] + list(rows[0]))
+        for i, x, r in zip(ids, xs, rows, strict=True):
+            w.writerow([i, x] + [f"{v:.6g}" for v in r.values()])
+    groups = {"tan_gamma_e": ("equivalent conicity tan γe [-]", "tan γe (EN 15302 Annex B)"),
+              "rolling_radii_coeff": ("rolling-radii coefficient κ [-]", "rolling-radii "
+                                      "coefficient (LSQ slope of Δr / 2)"),
+              "nonlinearity_parameter": ("NP [1/mm]", "Polach's nonlinearity parameter")}
+    figs = []
+    for prefix, (ylabel, title) in groups.items():
+        cols = [c for c in rows[0] if c.startswith(prefix)]
+        series = {c.removeprefix(prefix + "_") or prefix: [r[c] for r in rows] for c in cols}
+        figs.append(gp.index_vs_parameter(xs, series, key, ylabel, title,
+                                          report / f"index_{prefix}.png", labels).name)
+    return ["## Geometry indices per member", "", "`indices.csv`: one row per member; "
+            "definitions and sources in `lutmpi/reports/indices.py`.", ""] + [
+        f"![{f}]({f})" for f in figs] + [""]
+
+
 def _status_line(index: list[dict[str, Any]]) -> str:
     """``12 members: 9 ok, 2 partial (failed poses), 1 not selected``."""
     counts: dict[str, int] = {}
@@ -311,6 +361,7 @@ def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "r
         lines += section
     if wear or (wear is None and _is_wear(data)):
         lines += _wear(data, report)
+        lines += _sweep_indices(data, report)
     path = report / "report.md"
     path.write_text("\n".join(lines) + "\n")
     log.info("report written to %s", path)
