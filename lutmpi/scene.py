@@ -35,7 +35,6 @@ class SolveSettings:
     window_gap: float = 2e-5  # m, rigid gap depth of the window beyond the penetration
     flange: bool = True
     chi: float = 1.0
-    compiled: bool = True  # numba node loops (False: the vectorized numpy reference)
 
 
 @dataclass(frozen=True, eq=False)

@@ -36,7 +36,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from lutmpi.check.regions import REGIONS, ReferenceGrid, RefPoint, primary_s, stratified_sample
-from lutmpi.contact.solve import INDENTATION_RATE, solve_pose
+from lutmpi.contact.methods import get_method
+from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import (
     CONVERGED,
     EQ_FAILED,
@@ -225,7 +226,7 @@ class Suite:
         self.scene, self.opts = scene, opts
         self.method = opts.method or scene.settings.method
         self.tol = Tolerances.from_scene(scene)
-        rate = INDENTATION_RATE.get(self.method, 1.0)
+        rate = getattr(get_method(self.method), "indentation_rate", 1.0)
         # peak interpenetration at the allowed indentation: the patch the solver may use
         self.delta = scene.equilibrium.allowed_indentation / rate
         self.ref = ReferenceGrid(scene, ys, yaws, self.tol.dc, self.delta)
@@ -482,7 +483,7 @@ class Suite:
                                "reference method: no mesh")
         eq, sd = self.scene.equilibrium, self.scene.side("left")  # same spacings both sides
         wm, rm = sd.wheel_mesh, sd.rail_mesh
-        delta = eq.allowed_indentation / INDENTATION_RATE[self.method]
+        delta = eq.allowed_indentation / get_method(self.method).indentation_rate
         lat, lon = (math.inf, None), (math.inf, None)
         for p in sample:
             for side in SIDES:
