@@ -35,6 +35,7 @@ class SolveSettings:
     window_gap: float = 2e-5  # m, rigid gap depth of the window beyond the penetration
     flange: bool = True
     chi: float = 1.0
+    hold_roll: bool = False  # reference only: roll held at zero (EN 15302 Annex E's Δr)
 
 
 @dataclass(frozen=True, eq=False)
@@ -140,7 +141,7 @@ class Scene:
             rails["right"] = PlacedRail.place(per["rail"]["right"], per["inc"]["right"], gauge,
                                               per["depth"]["right"], gauge_v=per["gv"]["right"])
         locus = LocusSolver(wheels, rails, ds=locus_ds, double_tol=eq.allowed_indentation,
-                            max_contacts=st.max_contacts)
+                            max_contacts=st.max_contacts, hold_roll=st.hold_roll)
         meshes: dict[int, object] = {}
         sides = {}
         for name in SIDES:

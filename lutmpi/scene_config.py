@@ -40,6 +40,7 @@ def solve_settings(cfg: Config) -> SolveSettings:
         window_gap=m.window_gap_mm * 1e-3,
         flange=f.enabled,
         chi=paper_flange_chi() if f.enabled else 1.0,
+        hold_roll=c.roll == "zero",
     )
 
 

@@ -13,8 +13,9 @@ Types: a float key accepts a TOML integer or float (finite; ``true``/``false`` a
 Profile files (``wheel.profile``, ``rail.profile``): an absolute path is used as is; a relative path
 is looked up, in this order, (1) relative to the directory of the config file (``base_dir``),
 (2) relative to the current directory, (3) relative to the lutmpi source checkout (the directory
-holding ``lutmpi/``, so ``profiles/...`` works from anywhere). The first existing file wins and is
-stored as an absolute, resolved path.
+holding ``lutmpi/``, so ``profiles/...`` works from anywhere), (4) for a path ``../shared/...``
+(any number of ``../``), in the shared folder that :func:`lutmpi.paths.shared_dir` finds. The
+first existing file wins and is stored as an absolute, resolved path.
 
 Derived default: when ``[output] methods`` is not given it is ``[contact.method]``, so a config that
 only changes the method computes that method. ``contact.method`` must be one of ``output.methods``.
@@ -116,6 +117,7 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "contact.method": _one_of(ALL_METHODS),
     "contact.allowed_indentation_mm": _open_closed(0.0, 1.0),
     "contact.max_contacts_per_wheel": ((lambda v: v in (1, 2)), "1 or 2"),
+    "contact.roll": _one_of(("solved", "zero")),
     "equilibrium.spring_N_per_m": _positive(),
     "equilibrium.torsion_spring_Nm_per_rad": _positive(),
     "equilibrium.vertical_load_N": ((lambda v: v >= 0), "a number >= 0"),
@@ -310,6 +312,22 @@ def _as_gauge_point(value: Any, key: str, where: _Where) -> str | float:
     return out
 
 
+def _shared_candidate(rel: Path) -> Path | None:
+    """``../shared/x`` also in the shared folder :func:`lutmpi.paths.shared_dir` finds
+    (``LUTMPI_SHARED``, beside the checkout, ``/work/shared``): validation data that must not be
+    copied into the repository, read from wherever the checkout is."""
+    from lutmpi.paths import shared_dir
+
+    parts = rel.parts
+    if rel.is_absolute() or "shared" not in parts:
+        return None
+    k = parts.index("shared")
+    if any(p != ".." for p in parts[:k]):
+        return None
+    base = shared_dir()
+    return None if base is None else base.joinpath(*parts[k + 1:])
+
+
 def _as_profile(value: Any, key: str, where: _Where) -> Path:
     """Resolve a profile path (config directory, current directory, source checkout)."""
     if isinstance(value, os.PathLike):
@@ -320,6 +338,9 @@ def _as_profile(value: Any, key: str, where: _Where) -> Path:
         rel = Path(text).expanduser()
         roots = [] if rel.is_absolute() else [where.base_dir, Path.cwd(), _SOURCE_ROOT]
         candidates = [rel] if rel.is_absolute() else [root / rel for root in roots]
+        shared = _shared_candidate(rel)
+        if shared is not None:
+            candidates.append(shared)
         for cand in candidates:
             if cand in tried:
                 continue
@@ -432,6 +453,10 @@ def _check_output(cfg: Config, where: _Where) -> None:
             if q not in QUANTITIES:
                 raise _expect(where, "output.quantities",
                               '["all"] or names from ' + ", ".join(QUANTITIES), q)
+    if cfg.contact.roll == "zero" and set(cfg.output.methods) != {"reference"}:
+        raise where.error("contact.roll", "roll = 'zero' (wheelset held level) applies to the "
+                          "rigid reference only: expected output.methods = ['reference'], got "
+                          f"{list(cfg.output.methods)!r}")
     if cfg.contact.method not in cfg.output.methods:
         raise where.error("output.methods", f"contact.method {cfg.contact.method!r} must be one of "
                                             f"output.methods, got {list(cfg.output.methods)!r}")

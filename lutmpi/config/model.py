@@ -190,6 +190,7 @@ class ContactConfig:
     allowed_indentation_mm: float = 0.01   # C_max^amm of eq. (9)
     max_contacts_per_wheel: int = 2        # §4.6 double contact
     extrapolate: bool = True               # report the pose extrapolated to zero indentation
+    roll: str = "solved"                   # "solved", or "zero" (reference only: Annex E Δr)
 
 
 @dataclass(frozen=True)

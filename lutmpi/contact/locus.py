@@ -377,8 +377,10 @@ class LocusSolver:
         ds: float = 1e-4,
         double_tol: float = 1e-5,
         max_contacts: int = 2,
+        hold_roll: bool = False,
     ):
         wheels, rails = _per_side(wheel, WheelGeometry), _per_side(rail, PlacedRail)
+        self.hold_roll = hold_roll
         self.sides = {name: LocusSide.build(name, wheels[name], rails[name], ds) for name in SIDES}
         self.double_tol = double_tol
         self.max_contacts = max_contacts
@@ -522,6 +524,8 @@ class LocusSolver:
         return hit
 
     def _solve(self, y: float, yaw: float, xtol: float, max_secant: int) -> RigidSolution:
+        if self.hold_roll:
+            return self._held(y, yaw)
         local, nit = self._local(y, yaw, xtol, max_secant)
         brackets = self.brackets(y, yaw)
         if not brackets and local is None:
@@ -583,14 +587,33 @@ class LocusSolver:
                   for name, sd in self.sides.items())
         return RigidRoot(roll=float(roll), z_g=0.5 * (zl + zr), stable=stable, at_end=end)
 
-    def finish(self, y: float, yaw: float, roll: float, nit: int = 0) -> RigidSolution:
-        """Contact details at the converged roll."""
+    def _held(self, y: float, yaw: float) -> RigidSolution:
+        """Roll held at zero (EN 15302 Annex E's Δr): each wheel's contact is the minimum of its
+        own gap with the wheelset level; G sits at the higher of the two touching heights (the
+        other wheel clears its rail by the difference, stored as its contact's gap)."""
+        zl, zr = self.heights(y, yaw, 0.0)
+        if not (np.isfinite(zl) and np.isfinite(zr)):
+            return RigidSolution(y, yaw, np.nan, np.nan, False,
+                                 "a wheel has no point over its rail at zero roll", 1)
+        out = self.finish(y, yaw, 0.0, 1, z_g=max(zl, zr))
+        out.n_roots = 1
+        out.roots = (RigidRoot(roll=0.0, z_g=out.z_g, stable=True, at_end=False),)
+        out.at_end = any(c.at_end for cs in out.contacts.values() for c in cs)
+        if out.at_end:
+            out.message = "a contact lies on the end of a profile's data"
+        return out
+
+    def finish(self, y: float, yaw: float, roll: float, nit: int = 0,
+               z_g: float | None = None) -> RigidSolution:
+        """Contact details at the converged roll (``z_g``: given, else the mean of the two
+        touching heights, which are equal at a root)."""
         R = wheelset_rotation(yaw, roll)
         loci = {name: compute_locus(sd.sign, sd.samp, sd.wheel, sd.rail,
                                     np.array([0.0, y, 0.0]), R)
                 for name, sd in self.sides.items()}
-        z_side = [-_parabolic_min(lc.gap, int(np.argmin(lc.gap)))[1] for lc in loci.values()]
-        z_g = 0.5 * (z_side[0] + z_side[1])
+        if z_g is None:
+            z_side = [-_parabolic_min(lc.gap, int(np.argmin(lc.gap)))[1] for lc in loci.values()]
+            z_g = 0.5 * (z_side[0] + z_side[1])
         centre = np.array([0.0, y, z_g])
         out = RigidSolution(y, yaw, z_g, roll, True, "converged", nit)
         for name, loc in loci.items():
@@ -602,6 +625,9 @@ class LocusSolver:
                 self._refine(self.sides[name], loc, i, centre, R)
                 for i in contact_minima(loc.gap, self.double_tol, self.max_contacts)
             ]
+        if self.hold_roll:  # one contact per wheel: the minimum of its own gap
+            for name in out.contacts:
+                out.contacts[name] = out.contacts[name][:1]
         return out
 
     @staticmethod
