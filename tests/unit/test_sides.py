@@ -179,3 +179,17 @@ def test_each_flange_key_changes_the_result(section, key, value):
     # the k_c iteration meets the allowed indentation with the flange factor applied: the
     # stored k_c scale (table dataset ``kc``) moves with the factor
     assert abs(b.kc / a.kc - 1.0) > 0.05, (a.kc, b.kc)
+
+
+def test_sweep_over_per_side_keys(tmp_path):
+    from lutmpi.config.sweep import expand_sweep
+
+    (tmp_path / "s.toml").write_text(
+        '[base.wheel]\ngenerator = "S1002"\n[base.rail]\ngenerator = "UIC60"\n'
+        '[[sweep]]\nproduct = { "wheel.right.nominal_radius_mm" = [459.0, 460.0], '
+        '"rail.left.inclination" = ["1:40", 0.03] }\n')
+    members = expand_sweep(tmp_path / "s.toml")
+    got = sorted((m.config.wheel.side("right").nominal_radius_mm,
+                  round(m.config.rail.side("left").inclination_rad, 6)) for m in members)
+    assert got == [(459.0, 0.024995), (459.0, 0.03), (460.0, 0.024995), (460.0, 0.03)]
+    assert all(m.config.wheel.side("left").nominal_radius_mm == 460.0 for m in members)
