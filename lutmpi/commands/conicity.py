@@ -62,8 +62,12 @@ def run(args: argparse.Namespace) -> int:
     import tomllib
 
     from lutmpi.errors import ConfigError
+    from lutmpi.outpath import check_output_file
     from lutmpi.reports.conicity import conicity_curve, dr_from_table, parse_amplitudes
 
+    for path, what in ((args.output, "CSV output"), (args.plot, "plot")):
+        if path is not None:
+            check_output_file(path, what)
     r0_mm = args.r0_mm
     if args.dr:
         y, dr = read_dr_csv(args.dr)
@@ -76,6 +80,9 @@ def run(args: argparse.Namespace) -> int:
             y, dr = dr_from_table(table, args.method)
         except (ValueError, KeyError) as exc:
             raise ConfigError(f"{args.table}: {exc}") from exc
+        if len(y) < 3:       # e.g. every point of the table failed
+            raise ConfigError(f"{args.table}: {len(y)} converged point(s) at yaw = 0, a Δr(y) "
+                              "curve needs at least 3 (see `lutmpi inspect` for the statuses)")
         if r0_mm is None:
             cfg = tomllib.loads(table["attrs"].get("config_toml", ""))
             r0_mm = float(cfg.get("wheel", {}).get("nominal_radius_mm", 460.0))

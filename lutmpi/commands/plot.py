@@ -79,8 +79,10 @@ def plot(table: Any, quantity: str, output: str, method: str | None = None, side
 
 
 def run(args: argparse.Namespace) -> int:
+    from lutmpi.outpath import check_output_file
     from lutmpi.table import Table
 
+    check_output_file(args.output, "figure")
     plot(Table.open(args.table), args.quantity, args.output, args.method, args.side, args.slot,
          args.component)
     return 0

@@ -26,7 +26,10 @@ def register(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from lutmpi.outpath import check_output_dir
     from lutmpi.reports.report import build_report
+
+    check_output_dir(args.output, "report folder")
 
     path = build_report(args.outdir, args.output, reference=args.reference, wear=args.wear)
     print(path)

@@ -226,13 +226,15 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
         A bad sweep file, on every rank, before anything runs.
     """
     from lutmpi.config.sweep import expand_sweep
+    from lutmpi.outpath import check_output_dir
     from lutmpi.parallel.runner import build_table, make_scene
     from lutmpi.table.compute import default_solver
 
     comm = SelfComm() if comm is None else comm
-    members = expand_sweep(sweep)                      # pure: same list on every rank
     out = Path(outdir)
-    root_decides(comm, lambda: out.mkdir(parents=True, exist_ok=True))
+    root_decides(comm, lambda: check_output_dir(out, "sweep output folder"))  # before any work
+    members = expand_sweep(sweep)                      # pure: same list on every rank
+    root_decides(comm, lambda: _make_outdir(out))
     cache = SceneCache(scene_factory or make_scene)
     records: list[MemberRecord] = []
     summary = SweepSummary(out, records)
@@ -274,6 +276,15 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
     log.info("sweep done: %d members, %d ok, %d failed%s", len(records),
              len(records) - len(failed), len(failed), f" ({', '.join(failed)})" if failed else "")
     return summary
+
+
+def _make_outdir(out: Path) -> None:
+    from lutmpi.errors import OutputError
+
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"cannot create the sweep output folder {out}: {exc}") from exc
 
 
 def _record_existing(comm: Any, rec: MemberRecord, path: Path, state: str) -> None:
