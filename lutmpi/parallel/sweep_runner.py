@@ -58,7 +58,7 @@ class MemberRecord:
 
     id: str
     params: dict[str, Any]
-    status: str = "pending"         # ok | failed
+    status: str = "pending"         # ok | partial (some poses failed) | failed | not selected
     message: str = ""
     skipped: bool = False           # complete table found, not rebuilt
     points: int = 0
@@ -83,7 +83,8 @@ class SweepSummary:
 
     @property
     def failed(self) -> list[MemberRecord]:
-        return [m for m in self.members if m.status != "ok"]
+        """Members without a table (``partial`` and ``not selected`` are not failures)."""
+        return [m for m in self.members if m.status == "failed"]
 
 
 class SceneCache:
@@ -246,7 +247,11 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
         path = out / rec.table
         state, why = root_decides(comm, lambda p=path, m=member: _table_state(
             p, provenance.input_record(m.config)))
-        if (only and member.id not in only) or (state == "complete" and not force):
+        if only and member.id not in only:
+            rec.status, rec.message = "not selected", "not in --only"
+            root_decides(comm, lambda: write_index(out, records))
+            continue
+        if state == "complete" and not force:
             _record_existing(comm, rec, path, state)
             root_decides(comm, lambda: write_index(out, records))
             continue
@@ -272,9 +277,7 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
             wall = time.perf_counter() - t0
             _record_built(comm, rec, path, wall)
         root_decides(comm, lambda: write_index(out, records))
-    failed = [r.id for r in records if r.status != "ok"]
-    log.info("sweep done: %d members, %d ok, %d failed%s", len(records),
-             len(records) - len(failed), len(failed), f" ({', '.join(failed)})" if failed else "")
+    log.info("sweep done: %d members: %s", len(records), _status_counts(records))
     return summary
 
 
@@ -287,14 +290,40 @@ def _make_outdir(out: Path) -> None:
         raise OutputError(f"cannot create the sweep output folder {out}: {exc}") from exc
 
 
+def _status_counts(records: Sequence[MemberRecord]) -> str:
+    """``"9 ok, 2 partial (a, b), 1 failed (c), 3 not selected"``."""
+    out = []
+    for status in ("ok", "partial", "failed", "not selected"):
+        ids = [r.id for r in records if r.status == status]
+        if ids:
+            named = status in ("partial", "failed")
+            out.append(f"{len(ids)} {status}" + (f" ({', '.join(ids)})" if named else ""))
+    return ", ".join(out) or "none"
+
+
+def _partial(rec: MemberRecord) -> None:
+    """A member with some failed poses is ``partial``, never ``ok`` (and says so at WARNING)."""
+    if rec.points and rec.failed_points == rec.points:
+        rec.status, rec.message = "failed", f"all {rec.points} points failed (see status)"
+    elif rec.failed_points:
+        rec.status = "partial"
+        rec.message = f"{rec.failed_points} of {rec.points} points not converged (see status)"
+        log.warning("member %s: %s", rec.id, rec.message)
+    else:
+        rec.status = "ok"
+
+
 def _record_existing(comm: Any, rec: MemberRecord, path: Path, state: str) -> None:
     if state != "complete":
         rec.status, rec.message = "failed", f"not run ({state} table)"
         return
     stats = root_decides(comm, lambda: _table_stats(path))
-    rec.status, rec.skipped, rec.message = "ok", True, "complete table found"
+    rec.skipped = True
     for k, v in stats.items():
         setattr(rec, k, v)
+    _partial(rec)
+    if rec.status == "ok":
+        rec.message = "complete table found"
 
 
 def _record_built(comm: Any, rec: MemberRecord, path: Path, wall: float) -> None:
@@ -303,9 +332,4 @@ def _record_built(comm: Any, rec: MemberRecord, path: Path, wall: float) -> None
         setattr(rec, k, v)
     rec.wall_s = comm.bcast(wall, root=0)
     rec.ranks = comm.size
-    if rec.points and rec.failed_points == rec.points:
-        rec.status, rec.message = "failed", f"all {rec.points} points failed (see status)"
-    else:
-        rec.status = "ok"
-        if rec.failed_points:
-            rec.message = f"{rec.failed_points} of {rec.points} points not converged"
+    _partial(rec)
