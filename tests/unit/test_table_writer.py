@@ -224,6 +224,7 @@ def _doctor(src, dst, edit):
     (lambda f: f["load_centre"].__delitem__("status"), "/load_centre/status is missing"),
     (lambda f: f.__delitem__("yaw"), "dataset /yaw is missing"),
     (lambda f: f.attrs.__delitem__("schema_version"), "not a lutmpi table"),
+    (lambda f: f.attrs.modify("config_toml", "not = [toml"), "'config_toml' is not valid TOML"),
 ])
 def test_damaged_table_is_a_clear_error_naming_file_and_what(fresh, tmp_path, edit, message):
     bad = _doctor(fresh, tmp_path / "bad.h5", edit)
