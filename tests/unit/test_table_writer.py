@@ -264,3 +264,14 @@ def test_sweep_rerun_compares_contents_not_paths(tmp_path, repo_root):
     assert member.status == "failed" and "wheel.profile" in member.message
     forced = run_sweep(sweep, out, force=True, **kw)
     assert forced.members[0].status == "ok" and not forced.members[0].skipped
+
+
+def test_commands_on_an_all_failed_table_are_clear_errors(fresh, tmp_path, capsys):
+    """``conicity`` on a table whose every point failed raised TypeError (issue 13, item 7)."""
+    from lutmpi.cli import main
+
+    bad = _doctor(fresh, tmp_path / "failed.h5",
+                  lambda f: f["load_centre/status"].__setitem__(Ellipsis, 2))
+    assert main(["conicity", str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert "lutmpi conicity: error:" in err and "Traceback" not in err
