@@ -235,11 +235,13 @@ def test_changed_profile_refused_same_content_elsewhere_resumes(reference, tmp_p
 def test_second_build_on_same_output_refused_at_once_first_completes(reference, tmp_path):
     cfg, ref = reference
     out = tmp_path / "t.h5"
-    first = start_build(cfg, out, 2, LUTMPI_FAULT=SLOW)
+    # slow enough (~10-20 s) to be still running when the second build's mpirun is up
+    first = start_build(cfg, out, 2, LUTMPI_FAULT="sleep=0.12")
     _wait_for_points(first, out, 2)
     t0 = time.monotonic()
     second = build(cfg, out, 2, "--force", timeout=60)
     elapsed = time.monotonic() - t0
+    assert first.poll() is None, "the first build ended before the second started: no overlap"
     assert second.returncode != 0
     assert "being written by another lutmpi build (pid" in second.stderr, second.stderr
     assert elapsed < 15, elapsed            # refused before any compute (mpirun start-up only)
