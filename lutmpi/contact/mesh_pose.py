@@ -5,13 +5,15 @@ contact stage, and the pose result. Shared by every :class:`~lutmpi.contact.meth
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.mesh import Window, build_window
 from lutmpi.contact.records import SIDE_SIGN, contact_record
 from lutmpi.contact.stiffness import flange_kc_scale
-from lutmpi.equilibrium.result import STATUS, WINDOW, PoseResult
+from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET, WINDOW, PoseResult
 from lutmpi.equilibrium.solver import ContactForce, Equilibrium
 from lutmpi.geometry.pose import wheelset_rotation
 
@@ -54,8 +56,13 @@ def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> di
 
 
 def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResult:
-    """The pose result of mesh method ``method`` from the rigid contact ``rigid``."""
+    """The pose result of mesh method ``method`` from the rigid contact ``rigid``.
+
+    The equilibrium's budgets hold for the whole pose: a window widened and solved again continues
+    the evaluation count and keeps the deadline (``eq.max_pose_time`` from here)."""
     eq = scene.equilibrium
+    deadline = time.perf_counter() + eq.max_pose_time
+    nit = 0
     f_min = min(
         (flange_factor(scene, c.s) for cs in rigid.contacts.values() for c in cs), default=1.0
     )
@@ -76,8 +83,13 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResu
             fmin=f_min,
             rate=method.indentation_rate,
             nz_min=n_z,
+            nit=nit,
+            deadline=deadline,
         )
         out = solver.solve()
+        nit = out.nit
+        if out.status in (MAX_ITER, TIME_BUDGET):
+            break
         # how far the wheels moved vertically at their contacts: the nodes left out of the
         # window had a rigid gap above ``depth``, so none of them can be in contact unless a
         # wheel moved that far
