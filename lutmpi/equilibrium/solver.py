@@ -181,6 +181,13 @@ class Equilibrium:
             raise BudgetExceededError(TIME_BUDGET)
         self.nit += 1
         contacts = self.evaluate(q)
+        R, J, fc = self._assemble(q, kc, contacts, rated)
+        self._last = (q, R, contacts)
+        return R, J, contacts, fc
+
+    def _assemble(self, q: np.ndarray, kc: float, contacts: dict, rated: bool):
+        """Residual (2,), Jacobian (2, 2) and contact part of the residual (2,) at ``q`` from the
+        contacts evaluated there."""
         o = self.opts
         w0, w1 = self.axis[0], self.axis[1]
         rz = -o.load - o.k_el * (q[0] - self.q0[0])
@@ -206,8 +213,7 @@ class Equilibrium:
                 j11 += kr * a1 * b1
         R = np.array([rz + fz, rr + fr])
         J = np.array([[-j00 - o.k_el, -j01], [-j10, -j11 - o.k_rot]])
-        self._last = (q, R, contacts)
-        return R, J, contacts, np.array([fz, fr])
+        return R, J, np.array([fz, fr])
 
     def scaled(self, R: np.ndarray) -> np.ndarray:
         return R / np.array([self.opts.load, self.opts.load * self.lever])
@@ -397,7 +403,7 @@ class Equilibrium:
             if cmax <= o.allowed_indentation:
                 out = self._result(q, True, CONVERGED, kc, cmax, cs, R)
                 if o.extrapolate:
-                    out.q_extrapolated = self.extrapolate(q, kc)
+                    out.q_extrapolated = self.extrapolate(q, kc, cs)
                 return out
             # step 8: raise k_c; aim the indentation at a fraction of the allowed one
             kc *= float(np.clip(cmax / (o.target * o.allowed_indentation), 2.0, 1e3))
@@ -405,12 +411,13 @@ class Equilibrium:
                 return self._result(q, False, KC_LIMIT, kc, cmax, cs, R)
         return self._result(q, False, MAX_ITER, kc, cmax, cs, R)
 
-    def extrapolate(self, q: np.ndarray, kc: float) -> np.ndarray:
+    def extrapolate(self, q: np.ndarray, kc: float, contacts: dict) -> np.ndarray:
         """Pose at zero indentation. With the penalty solution ``q(k) = q* + a/k`` (linear in
         the indentation, contact geometry fixed), ``q* = q + k dq/dk`` and, from
         ``R(q(k), k) = 0``, ``k dq/dk = -J^-1 F_c`` with ``F_c`` the contact part of the
-        residual: one linear solve at the converged state, no further contact evaluation."""
-        _, J, _, fc = self._residual(q, kc)
+        residual: one linear solve at the converged state from its ``contacts`` (evaluated at
+        ``q``), no further contact evaluation."""
+        _, J, fc = self._assemble(q, kc, contacts, rated=True)
         try:
             return np.asarray(q) - np.linalg.solve(J, fc)
         except np.linalg.LinAlgError:
