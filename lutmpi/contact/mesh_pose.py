@@ -169,7 +169,8 @@ def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResu
             k = out.kc * cf.factor
             f = k * cf.indentation * cf.normal
             F += f
-            M += np.cross(cf.point - G, f)
+            r = cf.point - G
+            M += (r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0])
             rows.append((side, c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k))
     records = iter(contact_records(scene, rows))
     for name in SIDE_SIGN:
