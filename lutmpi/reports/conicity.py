@@ -383,13 +383,16 @@ def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
             f"amplitudes below {np.abs(inside).min() * 1e3:g} mm or rebuild those poses")
     reach = min(-float(y[0]), float(y[-1]))
     nearest = float(np.abs(holes).min()) if holes.size else math.inf
+    # never join across a hole: integrate only the run of values around y = 0
+    keep = np.isfinite(dr) & (np.abs(y) < nearest)
+    usable = min(-float(y[keep].min()), float(y[keep].max())) if keep.any() else 0.0
     if inside.size:
         warnings.append(f"Δr missing at y = {_mm_list(inside)} mm (failed poses): amplitudes "
-                        f">= {nearest * 1e3:g} mm not computed")
+                        f"above {usable * 1e3:g} mm not computed")
     elif holes.size:
         warnings.append(f"Δr missing at y = {_mm_list(holes)} mm (failed poses), outside the "
                         "amplitudes used")
-    beyond = amps[amps > min(reach, nearest) + 1e-12]
+    beyond = amps[amps > usable + 1e-12]
     off_table = amps[amps > reach + 1e-12]
     if off_table.size:
         warnings.append(f"amplitudes {_mm_list(off_table, span=True)} mm: beyond the table's "
@@ -397,8 +400,6 @@ def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
     if dy > MAX_DY * (1 + 1e-9):
         warnings.append(f"y step {dy * 1e3:g} mm is coarser than 0.1 mm (EN 15302's benchmark "
                         "data): the conicity of a non-linear Δr(y) carries that discretisation")
-    # never join across a hole: integrate only the run of values around y = 0
-    keep = np.isfinite(dr) & (np.abs(y) < nearest)
     return DrCheck(y[keep], dr[keep], holes, beyond, dy, warnings)
 
 
