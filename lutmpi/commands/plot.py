@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from lutmpi.equilibrium.result import SIDES
+from lutmpi.table.schema import D
 
 COMPONENTS = ("x", "y", "z")
 
@@ -101,7 +102,7 @@ def _categories(table: Any, quantity: str, codes: np.ndarray, label: str, case: 
     from lutmpi.reports import geometry_plots as gp
 
     codes = np.asarray(codes).astype(int)
-    names = gp.status_names() if quantity == "status" else \
+    names = gp.status_names() if quantity == D.status else \
         {int(c): f"{int(c)} contact(s)" for c in np.unique(codes)}
     gp.category_map(table.y, table.yaw, codes, names, label, case, Path(output))
 

@@ -20,6 +20,7 @@ import numpy as np
 from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import ConfigError
 from lutmpi.reports.units import all_columns, edge_unit
+from lutmpi.table.schema import D
 
 NAME = "csv"
 DESCRIPTION = "1-D functions of y at one yaw (both wheels, both contacts), mm and deg"
@@ -40,7 +41,7 @@ def rows(table: Any, j: int, method: str | None = None) -> tuple[list[str], list
     stored = table.quantities
     cols = [(f, c, i) for f, c, i in all_columns(stored)]
     header = ["y_mm"] + [c for _, c, _ in cols] + ["status_text"]
-    status = table.get("status", method, raw=True)[:, j]
+    status = table.get(D.status, method, raw=True)[:, j]
     out = []
     for iy, y in enumerate(table.y):
         row: list[Any] = [y * 1e3]

@@ -57,6 +57,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, optimize
 
+from lutmpi.table.schema import D
+
 __all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
            "dr_from_table", "check_dr", "DrCheck", "HoleError"]
 
@@ -305,12 +307,12 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
     if abs(yaw[j]) > 1e-12:
         raise ValueError(f"no yaw = 0 column in the grid (closest {yaw[j]:.3g} rad): "
                          "equivalent conicity needs the wheelset at zero yaw")
-    if "rolling_radius" not in group:
-        raise ValueError(f"method {name!r}: the table holds no rolling_radius")
-    rr = np.asarray(group["rolling_radius"], dtype=float)[:, j, :, 0]
+    if D.rolling_radius not in group:
+        raise ValueError(f"method {name!r}: the table holds no {D.rolling_radius}")
+    rr = np.asarray(group[D.rolling_radius], dtype=float)[:, j, :, 0]
     dr = rr[:, 0] - rr[:, 1]
-    if "status" in group:
-        dr = np.where(np.asarray(group["status"])[:, j] == 0, dr, np.nan)
+    if D.status in group:
+        dr = np.where(np.asarray(group[D.status])[:, j] == 0, dr, np.nan)
     return y, dr
 
 
