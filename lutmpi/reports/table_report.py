@@ -18,7 +18,7 @@ import numpy as np
 
 from lutmpi.reports import breaks, indices
 from lutmpi.reports import conicity as con
-from lutmpi.reports.pair import PairInfo, pair_info
+from lutmpi.reports.pair import PairInfo, en15302_case, pair_info
 from lutmpi.table.schema import D
 
 log = logging.getLogger(__name__)
@@ -150,6 +150,10 @@ def _indices(ctx: ReportContext) -> list[str]:
              f"Nonlinearity parameter NP (Polach 2010) = {_f(idx.nonlinearity * 1e-3)} 1/mm.", ""]
     if band is None and ctx.band_case:
         lines.append(f"No EN 15302 band: case {ctx.band_case} data not found (shared/).")
+    elif band is not None:
+        inside = _inside_band(amps, lam, band)
+        lines.append(f"EN 15302 Annex E case {ctx.band_case}: tolerance band drawn; "
+                     f"{inside[0]} of {inside[1]} computed amplitudes inside it.")
     return lines + [ctx.fig(path), ""]
 
 
@@ -166,6 +170,15 @@ def _band(case: str | None) -> dict[str, np.ndarray] | None:
     d = np.genfromtxt(path, delimiter=",", names=True)
     return {"amplitude": d["amplitude_mm"] * 1e-3, "reference": d["tan_gamma_e_ref"],
             "lower": d["tol_lower"], "upper": d["tol_upper"]}
+
+
+def _inside_band(amps: np.ndarray, lam: np.ndarray, band: dict[str, np.ndarray]
+                 ) -> tuple[int, int]:
+    """(inside, compared): amplitudes where both the conicity and the band have a value."""
+    lo = np.interp(amps, band["amplitude"], band["lower"], left=np.nan, right=np.nan)
+    hi = np.interp(amps, band["amplitude"], band["upper"], left=np.nan, right=np.nan)
+    ok = np.isfinite(lam) & np.isfinite(lo)
+    return int(np.count_nonzero(ok & (lam >= lo) & (lam <= hi))), int(ok.sum())
 
 
 def _lead(ctx: ReportContext) -> list[str]:
@@ -226,7 +239,9 @@ def build_table_report(table_path: str | Path, report_dir: str | Path, *,
     at_y_mm : tuple of float, optional
         Lateral shifts (mm) at which the pair is drawn to scale; default 0 and the grid's last y.
     band_case : str, optional
-        EN 15302 Annex E case (``E1`` … ``E9``) whose tolerance band is drawn with the conicity.
+        EN 15302 Annex E case (``E1`` … ``E9``) whose tolerance band is drawn with the conicity;
+        default: the case the table's profiles are, if any (:func:`lutmpi.reports.pair.
+        en15302_case`).
     """
     from lutmpi.table import Table
 
@@ -236,6 +251,7 @@ def build_table_report(table_path: str | Path, report_dir: str | Path, *,
     method = method or table.methods[0]
     j0 = int(np.argmin(np.abs(table.yaw)))
     at = tuple(a * 1e-3 for a in at_y_mm) if at_y_mm is not None else (0.0, float(table.y[-1]))
+    band_case = band_case or en15302_case(table.config_toml)
     ctx = ReportContext(table, method, out, pair_info(table.config_toml), j0,
                         breaks.break_mask(table, method, j0), at, band_case)
     lines: list[str] = []
