@@ -188,7 +188,12 @@ def _lead(ctx: ReportContext) -> list[str]:
     wp = t.get(D.wheel_point, ctx.method)[:, :, :, 0, 0]          # (ny, nyaw, side) x
     picks = sorted({0, t.y.size // 4, t.y.size // 2, 3 * t.y.size // 4, t.y.size - 1})
     leads = {f"y = {t.y[i] * 1e3:g} mm": wp[i] for i in picks}
-    path = gp.lead_vs_yaw(t.yaw, leads, ctx.case, ctx.outdir / "contact_lead.png")
+    raw = {n: t.get(n, ctx.method, raw=True) for n in (D.wheel_s, D.n_contacts, D.status)
+           if n in t.quantities}
+    masks = {f"y = {t.y[i] * 1e3:g} mm": breaks.detect(
+        raw[D.wheel_s][i], raw[D.n_contacts][i] if D.n_contacts in raw else None,
+        raw[D.status][i]) for i in picks} if D.wheel_s in raw else None
+    path = gp.lead_vs_yaw(t.yaw, leads, ctx.case, ctx.outdir / "contact_lead.png", masks)
     return ["## Contact lead against yaw", "", ctx.fig(path), ""]
 
 
