@@ -17,7 +17,7 @@ from lutmpi.table.schema import FIELDS, D
 
 PKG = REPO_ROOT / "lutmpi"
 AREA = sorted((PKG / "reports").glob("*.py")) + sorted((PKG / "export").glob("*.py")) + [
-    PKG / "commands" / f"{n}.py" for n in ("report", "export", "conicity", "plot")]
+    PKG / "commands" / f"{n}.py" for n in ("report", "export", "conicity", "plot", "solve")]
 NAMES = {f.name for f in FIELDS}
 
 
