@@ -63,6 +63,11 @@ def test_centred_pose_is_symmetric(scene):
     assert cl.wheel_s == pytest.approx(cr.wheel_s, abs=1e-12)
     assert cl.rolling_radius == pytest.approx(cr.rolling_radius, abs=1e-12)
     np.testing.assert_allclose(cl.wheel_point, _mirror_point(cr.wheel_point), atol=1e-12)
+    # the right rail as the solver places it: the mirror of the left one (gauge point at
+    # -717.5 mm), so the rail contact points mirror too and their profile coordinates agree
+    np.testing.assert_allclose(cl.rail_point, _mirror_point(cr.rail_point), atol=1e-12)
+    assert cl.rail_v == pytest.approx(cr.rail_v, abs=1e-12)
+    assert cl.contact_angle == pytest.approx(cr.contact_angle, abs=1e-12)
 
 
 def _z_s(scene, y, yaw):
