@@ -15,6 +15,7 @@ import subprocess
 import h5py
 import numpy as np
 import pytest
+from scipy.signal import find_peaks
 
 from lutmpi.paths import REPO_ROOT
 from tests.support.tables import LUTMPI, env
@@ -104,7 +105,9 @@ def test_readme_critical_speed(paper_table):
     assert res["classical"]["speed"] == pytest.approx(10.5, abs=0.05)
     nl = res["nonlinear"]
     assert nl["converged"]
-    assert nl["speed"] == pytest.approx(12.4, abs=0.05)
+    # "12.4": the bisection stops at 2 % (a 0.25 m/s bracket), so its midpoint is known to
+    # ±0.13 m/s whatever digits are printed; the runs next to it grow at ~1e-6..1e-4 1/s
+    assert nl["speed"] == pytest.approx(12.4, abs=0.15)
     assert nl["stable_below"] < nl["speed"] < nl["hunting_above"]
     assert abs(nl["speed"] / res["linear"]["speed"] - 1.0) < 0.03
 
@@ -130,7 +133,7 @@ def test_readme_simulations(paper_table, tmp_path, speed, duration, kind, rate, 
         y = np.abs(f["y"][...])
         attrs = dict(f.attrs)
     digits = 0.005 if rate is not None else 0.0005     # 2 or 3 decimals in mm
-    peak = float(y[: len(y) // 10].max())               # the first swing
+    peak = float(y[find_peaks(y)[0][0]])                # the first swing's peak
     assert peak * 1e3 == pytest.approx(first, abs=digits)
     assert attrs["amplitude"] * 1e3 == pytest.approx(final, abs=digits)
     if kind is not None:
