@@ -108,10 +108,15 @@ def test_yaw_term_of_the_lever_arm_matters_here():
 
 
 @pytest.mark.parametrize("extrapolate", [True, False])
-def test_solve_balances_eq1_and_extrapolates_to_the_rigid_pose(extrapolate):
+@pytest.mark.parametrize("fmin", [CHI, 0.25, 1.0], ids=["told", "1.5x-soft", "6x-soft"])
+def test_solve_balances_eq1_and_extrapolates_to_the_rigid_pose(extrapolate, fmin):
+    """``fmin`` is the softest flange factor the solver is told of: it starts k_c where that
+    contact would be indented by half the allowed amount. Told the truth (χ) it needs one k_c
+    level; told 0.25 or 1 its first k_c is too soft (first indentation ~1.5 and ~6 times the
+    allowed one) and step 8 of §4.3 must raise k_c until eq. (9) holds."""
     opts = EquilibriumOptions(k_el=K_EL, k_rot=K_EL, load=W, allowed_indentation=1e-5,
                               extrapolate=extrapolate)
-    eq = Equilibrium(_evaluate, Y, YAW, Q_RIGID, opts, fmin=CHI, nz_min=np.cos(ANGLE["left"]))
+    eq = Equilibrium(_evaluate, Y, YAW, Q_RIGID, opts, fmin=fmin, nz_min=np.cos(ANGLE["left"]))
     res = eq.solve()
     assert res.success, res.message
     # eq. (9): every indentation within the allowed one, and both wheels loaded
