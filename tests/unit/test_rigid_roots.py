@@ -21,6 +21,7 @@ import pytest
 from lutmpi.contact.locus import find_brackets
 from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import CONVERGED, NO_CONTACT, PROFILE_END
+from lutmpi.equilibrium.solver import EquilibriumOptions
 from lutmpi.profiles import read_profile
 from lutmpi.profiles.model import Profile
 from lutmpi.profiles.standard import s1002, uic60
@@ -117,6 +118,30 @@ def test_three_rigid_roots_counted_and_the_lowest_stable_chosen(thinned_scene):
     assert lc.status == CONVERGED and abs(lc.z_g - ref.z_g) < 0.02 * MM
     others = [q.z_g for q in rig.roots if q.roll != rig.roll]
     assert min(abs(z - lc.z_g) for z in others) > 0.3 * MM  # not another root
+    # under refinement (mesh and allowed indentation halved together) the load centre closes
+    # in on the chosen root
+    fine = Scene.from_profiles(flange_thinning(s1002(), 2.0), uic60(),
+                               inclination=math.atan(1 / 40),
+                               spacing=(1.25e-4, 2.5e-4, 1.25e-4, 2.5e-4),
+                               equilibrium=EquilibriumOptions(allowed_indentation=5e-6))
+    lf = solve_pose(fine, y, 0.0, "load_centre")
+    assert lf.status == CONVERGED
+    print(f"load centre - root z_g: {(lc.z_g - ref.z_g) / MM:+.5f} mm (0.25 mm mesh), "
+          f"{(lf.z_g - ref.z_g) / MM:+.5f} mm (0.125 mm)")
+    assert abs(lf.z_g - ref.z_g) <= abs(lc.z_g - ref.z_g) + 1e-6 * MM
+
+
+def test_check_advice_names_the_cause():
+    from lutmpi.check.suite import advice
+
+    scene = Scene.from_profiles(s1002(), uic60())
+    rigid = advice(NO_CONTACT, scene, "no_contact (no rigid two-wheel contact over the "
+                                      "admissible roll range ...)")
+    mesh = advice(NO_CONTACT, scene, "no_contact: a wheel found none in its mesh window")
+    end = advice(PROFILE_END, scene, "profile_end (...)")
+    assert "no rigid two-wheel contact exists" in rigid and "refine" not in rigid
+    assert "rigid contact exists but the mesh sees none" in mesh
+    assert "end of a profile's data" in end
 
 
 def test_contact_at_end_of_profile_data():
