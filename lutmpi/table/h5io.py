@@ -145,6 +145,21 @@ def finalize(f: h5py.File, attrs: dict[str, Any]) -> None:
     f.close()
 
 
+def read_attrs(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """The root attributes of an HDF5 file (any state, complete or not) as plain values.
+
+    Raises
+    ------
+    TableError
+        Missing or unreadable file.
+    """
+    try:
+        with h5py.File(path, "r") as f:
+            return {k: _plain(v) for k, v in f.attrs.items()}
+    except OSError as exc:
+        raise TableError(f"{path}: not a readable HDF5 file ({exc})") from exc
+
+
 def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Read a complete table into memory (serial h5py).
 
