@@ -276,3 +276,11 @@ def test_commands_on_an_all_failed_table_are_clear_errors(fresh, tmp_path, capsy
     assert main(["conicity", str(bad)]) == 1
     err = capsys.readouterr().err
     assert "lutmpi conicity: error:" in err and "Traceback" not in err
+
+
+def test_kill_while_the_journal_was_being_created_resumes_afresh(cfg, fresh, tmp_path):
+    out = tmp_path / "t.h5"
+    journal.journal_dir(out).mkdir()          # mkdir done, header not yet written
+    summary = _build(cfg, out, resume=True)
+    assert (summary.computed, summary.reused) == (N, 0)
+    assert differences(fresh, out) == []
