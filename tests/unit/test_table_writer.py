@@ -71,6 +71,8 @@ def _interrupted(cfg, out, points: int) -> np.ndarray:
 def test_resume_reuses_exactly_the_journaled_points(cfg, fresh, tmp_path):
     out = tmp_path / "t.h5"
     _interrupted(cfg, out, 6)
+    with pytest.raises(TableError, match=r"incomplete .* 6 of 15 points are journaled"):
+        read_table(tmp_path / "t.h5.partial")        # what `lutmpi inspect` says of it
     summary = _build(cfg, out, resume=True)
     assert (summary.reused, summary.computed) == (6, N - 6)
     assert differences(fresh, out) == []
