@@ -181,7 +181,23 @@ def _table_stats(path: Path) -> dict[str, Any]:
 
 
 def write_index(outdir: Path, records: Sequence[MemberRecord]) -> None:
-    """Write ``index.csv`` and ``index.json`` atomically (rank 0 only)."""
+    """Write ``index.csv`` and ``index.json`` atomically (rank 0 only).
+
+    Raises
+    ------
+    OutputError
+        A write error (disk full, I/O error), naming the folder; the tables are not affected.
+    """
+    from lutmpi.errors import OutputError
+
+    try:
+        _write_index(outdir, records)
+    except OSError as exc:
+        raise OutputError(f"cannot write the sweep index in {outdir}: {exc.strerror or exc}; "
+                          "the member tables are kept: rerun the sweep to rewrite it") from exc
+
+
+def _write_index(outdir: Path, records: Sequence[MemberRecord]) -> None:
     rows = [r.row() for r in records]
     tmp = outdir / "index.csv.tmp"
     with open(tmp, "w", newline="") as fh:
