@@ -4,7 +4,7 @@ Layout of a table file (HDF5)::
 
     /                    root attributes: config_toml, lutmpi_version, git_commit, created_utc,
                          ranks, wall_time_s, rank_busy_s, schema_version, complete, methods,
-                         quantities
+                         quantities, inputs (content hashes, :mod:`lutmpi.table.provenance`)
     /y        (ny,)      m    lateral shift y_g of the wheelset (dimension scale)
     /yaw      (nyaw,)    rad  yaw angle theta_z (dimension scale)
     /<method>/<name>     one group per contact method (``load_centre``, ``reference``, ...),
