@@ -39,6 +39,9 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from lutmpi.outpath import check_output_dir
+
+    check_output_dir(args.output, "report folder")
     if Path(args.outdir).is_file():
         from lutmpi.reports.table_report import build_table_report
 
