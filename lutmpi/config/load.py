@@ -230,17 +230,22 @@ def _as_bool(value: Any, key: str, where: _Where) -> bool:
 
 
 def _as_axis(value: Any, key: str, where: _Where) -> tuple[float, float, int]:
-    """``[start, stop, count]`` with start < stop, 2 <= count, inside the axis limits."""
+    """``[start, stop, count]`` with start < stop and 2 <= count, or one value (start == stop,
+    count 1: a 1-D table), inside the axis limits."""
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise _expect(where, key, "[start, stop, count]", value)
     start = _as_float(value[0], key, where)
     stop = _as_float(value[1], key, where)
     count = _as_int(value[2], key, where)
     limit, unit = _GRID_LIMITS[key]
-    if not start < stop:
-        raise where.error(key, f"expected start < stop, got start={start:g}, stop={stop:g}")
-    if not 2 <= count <= MAX_GRID_COUNT:
-        raise where.error(key, f"expected a count in [2, {MAX_GRID_COUNT}], got {count}")
+    if count == 1 and start == stop:
+        pass   # a single value: the table is 1-D along this axis
+    elif not start < stop:
+        raise where.error(key, f"expected start < stop (or start == stop with count 1), got "
+                               f"start={start:g}, stop={stop:g}")
+    elif not 2 <= count <= MAX_GRID_COUNT:
+        raise where.error(key, f"expected a count in [2, {MAX_GRID_COUNT}] (or 1 with start == "
+                               f"stop), got {count}")
     if max(abs(start), abs(stop)) > limit:
         raise where.error(key, f"expected values within ±{limit:g} {unit}, "
                                f"got [{start:g}, {stop:g}]")

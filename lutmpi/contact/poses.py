@@ -54,7 +54,10 @@ def read_poses(path: str | Path) -> list[tuple[float, float]]:
 
 
 def result_row(res: PoseResult) -> dict[str, object]:
-    """One CSV row (mm, rad) for a pose result; the primary contact is the most loaded one."""
+    """One CSV row (mm, rad) for a pose result; the primary contact is the most loaded one
+    (slot 0 of a table, :func:`lutmpi.table.compute.slot_order`)."""
+    from lutmpi.table.compute import slot_order
+
     row: dict[str, object] = {
         "y_mm": res.y * 1e3, "yaw_rad": res.yaw, "method": res.method, "status": res.status,
         "message": res.message, "iterations": res.nit, "z_g_mm": res.z_g * 1e3,
@@ -63,8 +66,7 @@ def result_row(res: PoseResult) -> dict[str, object]:
     for side in SIDES:
         cs = res.contacts[side]
         row[f"{side}_n_contacts"] = len(cs)
-        c = max(cs, key=lambda c: (c.force if math.isfinite(c.force) else 0.0, -c.indentation),
-                default=None) if cs else None
+        c = slot_order(cs)[0] if cs else None     # the table's slot 0 (compare with `query`)
         nan = float("nan")
         row[f"{side}_wheel_s_mm"] = c.wheel_s * 1e3 if c else nan
         row[f"{side}_contact_angle_rad"] = c.contact_angle if c else nan

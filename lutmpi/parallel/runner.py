@@ -39,6 +39,7 @@ from lutmpi.config.model import ALL_METHODS, Config
 from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import ConfigError
 from lutmpi.parallel import partition
+from lutmpi.parallel.jumps_step import add_jumps
 from lutmpi.parallel.workqueue import make_counter
 from lutmpi.table import h5io
 from lutmpi.table.compute import Records, Solver, compute_points, default_solver
@@ -260,6 +261,8 @@ def _run(comm: Any, config: Config, out: Path, grid: Grid, methods: tuple[str, .
                         _batches(comm, todo, split), len(todo), interval)
     _exchange(comm, grid, state)
     h5io.write_blocks(f, comm, state.row_start, state.blocks, state.done_rows)
+    add_jumps(comm, f, grid, config, plan["scene"], solver, methods, fields, state.row_start,
+              state.blocks)   # issue 11: post-build step, jumps + dynamics attributes
     log.debug("computed and written at %.3f s", time.perf_counter() - t_start)
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
     busy_all = np.asarray(comm.bcast(comm.gather(busy, root=0), root=0), dtype=float)
