@@ -44,7 +44,7 @@ def main(argv: list[str] | None = None) -> int:
         rc = args.func(args)
     except LutmpiError as exc:
         print(f"lutmpi {args.command}: error: {exc}", file=sys.stderr)
-        return 1
+        return 128 + exc.signum if hasattr(exc, "signum") else 1
     return int(rc or 0)
 
 

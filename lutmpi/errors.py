@@ -51,3 +51,13 @@ class TableError(LutmpiError, RuntimeError):
 
 class MPIUnavailableError(LutmpiError, RuntimeError):
     """MPI or parallel HDF5 is needed but not available (e.g. h5py built without MPI)."""
+
+
+class BuildInterruptedError(LutmpiError):
+    """A build was stopped by a signal (SIGINT, SIGTERM); its journal keeps the points done."""
+
+    def __init__(self, signum: int):
+        import signal
+
+        self.signum = signum
+        super().__init__(f"interrupted by {signal.Signals(signum).name}")

@@ -5,16 +5,14 @@ Library code uses ``logging.getLogger(__name__)``."""
 from __future__ import annotations
 
 import logging
-import os
 import sys
 
 
 def _rank_size() -> tuple[int, int]:
-    # Read Open MPI's environment rather than importing mpi4py: logging must not initialise MPI.
-    for r, s in (("OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE"), ("PMI_RANK", "PMI_SIZE")):
-        if r in os.environ:
-            return int(os.environ[r]), int(os.environ.get(s, "1"))
-    return 0, 1
+    # The launcher's environment, not mpi4py: logging must not initialise MPI.
+    from lutmpi.parallel.mpi import launched_rank_size
+
+    return launched_rank_size() or (0, 1)
 
 
 def setup_logging(verbose: bool = False, comm: object | None = None) -> None:

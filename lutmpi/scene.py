@@ -29,7 +29,6 @@ class SolveSettings:
     flange_base_radius: float = float("nan")  # m
     flange_tip_radius: float = float("nan")  # m
     chi: float = 1.0
-    compiled: bool = True  # numba node loops (False: the vectorized numpy reference)
 
 
 @dataclass(frozen=True, eq=False)

@@ -6,7 +6,8 @@
 #   LUTMPI_NP=4 bash scripts/run_main.sh CONFIG OUT.h5       # another config / output / rank count
 #
 # Output: OUT (default out/paper_table.h5), OUT's description on stdout and in OUT-stem.inspect.txt,
-# and figures OUT-stem_z_g.png, OUT-stem_roll.png beside it.
+# figures OUT-stem_z_g.png, OUT-stem_roll.png beside it, and the contact-geometry report
+# OUT-stem_report/report.md (+ PNGs).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
@@ -37,4 +38,7 @@ for q in z_g roll; do
   "$LUTMPI" plot "$out" "$q" -o "${stem}_$q.png"
   echo "[main] wrote ${stem}_$q.png"
 done
-echo "[main] done: $out, $stem.inspect.txt, ${stem}_z_g.png, ${stem}_roll.png"
+
+echo "[main] report"
+"$LUTMPI" report "$out" -o "${stem}_report"
+echo "[main] done: $out, $stem.inspect.txt, ${stem}_z_g.png, ${stem}_roll.png, ${stem}_report/report.md"

@@ -36,7 +36,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from lutmpi.check.regions import REGIONS, ReferenceGrid, RefPoint, primary_s, stratified_sample
-from lutmpi.contact.solve import INDENTATION_RATE, solve_pose
+from lutmpi.contact.methods import get_method
+from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import (
     CONVERGED,
     EQ_FAILED,
@@ -212,7 +213,7 @@ class Suite:
         self.scene, self.opts = scene, opts
         self.method = opts.method or scene.settings.method
         self.tol = Tolerances.from_scene(scene)
-        rate = INDENTATION_RATE.get(self.method, 1.0)
+        rate = getattr(get_method(self.method), "indentation_rate", 1.0)
         # peak interpenetration at the allowed indentation: the patch the solver may use
         self.delta = scene.equilibrium.allowed_indentation / rate
         self.ref = ReferenceGrid(scene, ys, yaws, self.tol.dc, self.delta)
@@ -467,7 +468,7 @@ class Suite:
             return CheckResult("mesh spacing", "all", True, math.inf, self.tol.min_nodes,
                                "reference method: no mesh")
         eq, wm, rm = self.scene.equilibrium, self.scene.wheel_mesh, self.scene.rail_mesh
-        delta = eq.allowed_indentation / INDENTATION_RATE[self.method]
+        delta = eq.allowed_indentation / get_method(self.method).indentation_rate
         lat, lon = (math.inf, None), (math.inf, None)
         for p in sample:
             for side in SIDES:

@@ -5,12 +5,9 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
-import os
 from typing import Any
 
 log = logging.getLogger(__name__)
-# set by mpirun (Open MPI), Hydra/PMI-2, PMIx and srun: only then is MPI initialised
-_LAUNCHER_VARS = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "SLURM_PROCID")
 
 
 def register(subparsers: Any) -> None:
@@ -19,17 +16,20 @@ def register(subparsers: Any) -> None:
         description="Build the (y_g x yaw) lookup table of CONFIG into one HDF5 file. Under "
                     "mpirun the grid is split over the ranks and the file written collectively. "
                     "The table appears at OUT only when complete; an interrupted build leaves "
-                    "OUT.partial, which --resume continues.")
+                    "OUT.journal/ (every computed point, checksummed), which --resume continues. "
+                    "OUT.lock keeps a second build of the same OUT out.")
     p.add_argument("config", help="configuration TOML file")
     p.add_argument("-o", "--output", required=True, help="table file to write (HDF5)")
     p.add_argument("--force", action="store_true",
                    help="overwrite an existing table and discard an unfinished build")
     p.add_argument("--resume", action="store_true",
-                   help="continue OUT.partial from an interrupted build (same config)")
+                   help="continue an interrupted build from OUT.journal/ (same inputs by content "
+                        "hash; the profiles and config may have moved)")
     p.add_argument("--method", action="append", dest="methods", metavar="NAME",
                    help="contact method to build (repeatable); default: [output] methods")
-    p.add_argument("--checkpoint-interval", type=float, default=60.0, metavar="SECONDS",
-                   help="minimum time between two checkpoints of OUT.partial (default 60)")
+    p.add_argument("--checkpoint-interval", type=float, default=10.0, metavar="SECONDS",
+                   help="longest time a computed point waits for fsync in OUT.journal/ (default "
+                        "10; every point is written there the moment it is computed)")
     # Test/debug hooks: a solver 'module:function' (optionally with make_scene(config) in the same
     # module) replaces the production solver; the split of points over ranks.
     p.add_argument("--solver", default=None, help=argparse.SUPPRESS)
@@ -53,16 +53,10 @@ def load_solver_hook(spec: str) -> tuple[Any, Any]:
 
 def run(args: argparse.Namespace) -> int:
     from lutmpi.config.load import load_config
-    from lutmpi.parallel.mpi import get_comm, require_parallel_h5py
+    from lutmpi.parallel.mpi import command_comm
     from lutmpi.parallel.runner import build_table
 
-    comm = None
-    if any(key in os.environ for key in _LAUNCHER_VARS):
-        comm = get_comm()
-        if comm.size > 1:
-            require_parallel_h5py()   # fail early and clearly, on every rank alike
-        else:
-            comm = None
+    comm = command_comm()
     config = load_config(args.config)
     solver = scene_factory = None
     if args.solver:

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import argparse
 import csv
-import sys
+import logging
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+log = logging.getLogger(__name__)
 
 
 def register(subparsers: Any) -> None:
@@ -59,42 +61,46 @@ def read_dr_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 def run(args: argparse.Namespace) -> int:
-    import tomllib
-
     from lutmpi.errors import ConfigError
-    from lutmpi.reports.conicity import conicity_curve, dr_from_table, parse_amplitudes
+    from lutmpi.reports.conicity import HoleError, check_dr, conicity_curve, parse_amplitudes
 
     r0_mm = args.r0_mm
-    if args.dr:
-        y, dr = read_dr_csv(args.dr)
-        label = Path(args.dr).name
-    else:
-        from lutmpi.table.h5io import read_table
-
-        table = read_table(args.table)
-        try:
-            y, dr = dr_from_table(table, args.method)
-        except (ValueError, KeyError) as exc:
-            raise ConfigError(f"{args.table}: {exc}") from exc
-        if r0_mm is None:
-            cfg = tomllib.loads(table["attrs"].get("config_toml", ""))
-            r0_mm = float(cfg.get("wheel", {}).get("nominal_radius_mm", 460.0))
-        label = Path(args.table).name
     try:
         amps = parse_amplitudes(args.amplitudes)
     except ValueError as exc:
         raise ConfigError(str(exc), key="--amplitudes") from exc
+    if args.dr:
+        y, dr = read_dr_csv(args.dr)
+        label = Path(args.dr).name
+    else:
+        y, dr, table_r0 = _table_dr(args)
+        r0_mm = r0_mm or table_r0
+        label = Path(args.table).name
+    try:
+        found = check_dr(y, dr, amps)
+    except HoleError as exc:
+        raise ConfigError(f"{label}: {exc}") from exc
+    for line in found.warnings:
+        log.warning("%s: %s", label, line)
+    y, dr = found.y, found.dr
     if np.polyfit(y, dr, 1)[0] <= 0:
-        print("warning: Δr does not increase with y: no stable kinematic motion (check the sign "
-              "convention: Δr must be positive for y > 0)", file=sys.stderr)
+        log.warning("%s: Δr does not increase with y: no stable kinematic motion (check the sign "
+                    "convention: Δr must be positive for y > 0)", label)
     res = conicity_curve(y, dr, amps, r0=(r0_mm or 460.0) * 1e-3, e=args.e_mm * 1e-3)
+    unbounded = res.amplitude[np.isnan(res.tan_gamma_e) & ~np.isin(amps, found.beyond)]
+    if unbounded.size:
+        log.warning("%s: no bounded motion found for amplitudes %s mm (NaN)", label,
+                    ", ".join(f"{a * 1e3:g}" for a in unbounded))
     print(f"# {label}: equivalent conicity, EN 15302 Annex B (r0 = {r0_mm or 460.0:g} mm, "
           f"e = {args.e_mm:g} mm)")
+    for line in found.warnings:
+        print(f"# warning: {line}")
     print("amplitude_mm,tan_gamma_e,wavelength_m")
     for a, c, w in zip(res.amplitude, res.tan_gamma_e, res.wavelength, strict=True):
         print(f"{a * 1e3:.3f},{c:.5f},{w:.3f}")
-    at3 = conicity_curve(y, dr, [3e-3]).tan_gamma_e[0]
-    print(f"# tan gamma_e at 3 mm: {at3:.4f}", file=sys.stdout)
+    if y.size >= 3 and min(-y[0], y[-1]) >= 3e-3:
+        at3 = conicity_curve(y, dr, [3e-3]).tan_gamma_e[0]
+        print(f"# tan gamma_e at 3 mm: {at3:.4f}")
     if args.output:
         np.savetxt(args.output, np.column_stack([res.amplitude * 1e3, res.tan_gamma_e,
                                                  res.wavelength]), delimiter=",",
@@ -104,3 +110,18 @@ def run(args: argparse.Namespace) -> int:
 
         conicity_plot({label: (res.amplitude, res.tan_gamma_e)}, args.plot)
     return 0
+
+
+def _table_dr(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, float]:
+    """``(y, Δr with NaN holes, r0 in mm)`` of a table at yaw 0."""
+    from lutmpi.errors import ConfigError
+    from lutmpi.reports.conicity import dr_from_table
+    from lutmpi.reports.pair import pair_info
+    from lutmpi.table import Table
+
+    table = Table.open(args.table, mask_failed=False)
+    try:
+        y, dr = dr_from_table(table, args.method)
+    except (ValueError, KeyError) as exc:
+        raise ConfigError(f"{args.table}: {exc}") from exc
+    return y, dr, pair_info(table.config_toml).r0_mm

@@ -1,4 +1,5 @@
-"""``lutmpi report OUTDIR -o REPORT``: convergence / wear report of a sweep directory."""
+"""``lutmpi report (T.h5 | OUTDIR) -o REPORT``: the geometry report of one table, or the convergence
+/ wear report of a sweep directory."""
 
 from __future__ import annotations
 
@@ -8,13 +9,18 @@ from typing import Any
 
 def register(subparsers: Any) -> None:
     p = subparsers.add_parser(
-        "report", help="convergence report of a sweep: error against run time",
-        description="For each method x mesh member of a sweep directory: max and RMS errors of "
+        "report", help="geometry report of a table, or convergence report of a sweep",
+        description="For a table (T.h5): report.md with the contact-geometry functions of y "
+                    "(Δr, rolling radii, contact angles in degrees, Δtanγ, roll, z_g), the contact "
+                    "points on both profiles, the pair to scale, the equivalent conicity and the "
+                    "indices (Polach's nonlinearity parameter, rolling-radii coefficient), the "
+                    "contact lead against yaw and the status maps. "
+                    "For a sweep directory: for each method x mesh member, max and RMS errors of "
                     "z_g, roll, contact positions on wheel and rail, contact angle and normal "
                     "direction against a reference table, CPU and wall time, and the observed "
                     "order. Writes REPORT/report.md, errors.csv and PNG plots; for wear sweeps "
                     "also Δr(y), contact angle, roll and equivalent conicity per member.")
-    p.add_argument("outdir", help="directory written by lutmpi sweep")
+    p.add_argument("outdir", help="a table file, or a directory written by lutmpi sweep")
     p.add_argument("-o", "--output", required=True, metavar="REPORT", help="report directory")
     p.add_argument("--reference", choices=("reference", "finest"), default="reference",
                    help="error reference: the semi-analytic solver's member (default) or each "
@@ -22,10 +28,24 @@ def register(subparsers: Any) -> None:
     p.add_argument("--wear", action=argparse.BooleanOptionalAction, default=None,
                    help="force the wear/conicity section on or off (default: when the sweep "
                         "varies profiles or wear)")
+    p.add_argument("--method", default=None, help="table: contact method (default: the first)")
+    p.add_argument("--at-y-mm", type=float, nargs="+", default=None, metavar="Y",
+                   help="table: lateral shifts drawn to scale (default: 0 and the largest y)")
+    p.add_argument("--en15302-case", default=None, metavar="E1..E9",
+                   help="table: draw this EN 15302 Annex E case's conicity tolerance band")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    if Path(args.outdir).is_file():
+        from lutmpi.reports.table_report import build_table_report
+
+        print(build_table_report(args.outdir, args.output, method=args.method,
+                                 at_y_mm=tuple(args.at_y_mm) if args.at_y_mm else None,
+                                 band_case=args.en15302_case))
+        return 0
     from lutmpi.reports.report import build_report
 
     path = build_report(args.outdir, args.output, reference=args.reference, wear=args.wear)

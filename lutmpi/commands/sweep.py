@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import os
 from typing import Any
 
 log = logging.getLogger(__name__)
@@ -29,7 +28,7 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from lutmpi.commands.build import load_solver_hook
-    from lutmpi.parallel.mpi import get_comm, require_parallel_h5py
+    from lutmpi.parallel.mpi import command_comm
 
     if args.list:
         from lutmpi.config.sweep import expand_sweep
@@ -39,10 +38,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     from lutmpi.parallel.sweep_runner import run_sweep
 
-    comm = None
-    if int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("PMI_SIZE", "1"))) > 1:
-        require_parallel_h5py()
-        comm = get_comm()
+    comm = command_comm()
     solver = scene_factory = None
     if args.solver:
         solver, scene_factory = load_solver_hook(args.solver)

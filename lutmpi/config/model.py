@@ -10,8 +10,10 @@ from pathlib import Path
 
 INCLINATIONS = {"1:20": math.atan(1 / 20), "1:40": math.atan(1 / 40), "1:30": math.atan(1 / 30),
                 "none": 0.0}
-CONTACT_METHODS = ("max_distance", "max_normal_distance", "load_centre")
-ALL_METHODS = CONTACT_METHODS + ("reference",)
+# the contact methods' registry (one module per method) is the only list of their names
+from lutmpi.contact.methods import MESH_METHOD_NAMES as CONTACT_METHODS  # noqa: E402, F401
+from lutmpi.contact.methods import METHOD_NAMES as ALL_METHODS  # noqa: E402, F401
+
 WHEEL_GENERATORS = ("S1002",)
 RAIL_GENERATORS = ("UIC60",)
 EQUILIBRIUM_SOLVERS = ("newton", "fixed_point")

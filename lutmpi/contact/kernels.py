@@ -1,15 +1,89 @@
-"""Compiled node loops (numba) for the contact search of one wheel: eq. (2) pairing and the three
-contact-point methods. Same algorithm as the vectorized reference in :mod:`lutmpi.contact.methods`
-(a test checks that both agree); this one is what the solver calls."""
+"""Compiled (numba) kernels: the typed aggregates they take, the shared stages of the contact
+search of §4.2 (eq. 2 pairing, §4.6 split, the wheel normal off the nodes), the window and the
+locus heights. The method-specific stage of each contact method lives in its own module of
+:mod:`lutmpi.contact.methods` and calls these.
+
+Aggregates (named tuples, built once per mesh or window; numba types them as records):
+
+* :class:`WheelArrays` -- the wheel grid: slices ``s, r, dr`` (m, m, 1), ``d`` (m), ``dphi`` (rad),
+  the 10 µm slope table ``tab_s, tab_dr`` and the profile's ``s_lo, s_hi`` (m);
+* :class:`RailArrays` -- the rail grid: profile nodes ``u, z`` (m), unit normals ``nu, nz``,
+  longitudinal step ``h_x`` (m);
+* :class:`WindowArrays` -- one wheel's window: ``side`` (+1 left, -1 right), slice index ``k`` of
+  each wheel node, wheelset-frame ``body_pts, body_nrm`` (n, 3), track-frame ``rail_pts,
+  rail_nrm`` (m, 3);
+* :class:`Pose` -- ``centre`` (3,) m and rotation ``R`` (3, 3) of the wheelset;
+* :class:`Contacts` -- what a method's stage returns: ``n`` volumes, and per volume (first
+  ``n`` rows of :data:`MAX_VOL`) wheel point, rail point, wheel outward normal, indentation
+  ``C`` (m), profile coordinate ``s`` (m), node counts.
+"""
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-MD, MND, LC = 0, 1, 2
-METHOD_IDS = {"max_distance": MD, "max_normal_distance": MND, "load_centre": LC}
 MAX_VOL = 16
+#: nodes searched either side of the sorted position for the nearest node
+K_NEAR = 3
+
+
+class WheelArrays(NamedTuple):
+    s: np.ndarray
+    r: np.ndarray
+    dr: np.ndarray
+    d: float
+    dphi: float
+    tab_s: np.ndarray
+    tab_dr: np.ndarray
+    s_lo: float
+    s_hi: float
+
+
+class RailArrays(NamedTuple):
+    u: np.ndarray
+    z: np.ndarray
+    nu: np.ndarray
+    nz: np.ndarray
+    h_x: float
+
+
+class WindowArrays(NamedTuple):
+    side: float
+    k: np.ndarray
+    body_pts: np.ndarray
+    body_nrm: np.ndarray
+    rail_pts: np.ndarray
+    rail_nrm: np.ndarray
+
+
+class Pose(NamedTuple):
+    centre: np.ndarray
+    R: np.ndarray
+
+
+class Contacts(NamedTuple):
+    n: int
+    wheel_point: np.ndarray
+    rail_point: np.ndarray
+    n_wheel: np.ndarray
+    C: np.ndarray
+    s: np.ndarray
+    n_wheel_nodes: np.ndarray
+    n_rail_nodes: np.ndarray
+
+
+class WheelSearch(NamedTuple):
+    P: np.ndarray  # (n, 3) wheel nodes, track frame
+    N: np.ndarray  # (n, 3) their outward normals
+    Pj: np.ndarray  # (n, 3) nearest rail node of each
+    vol: np.ndarray  # (n,) volume of each node in V_int, -1 outside
+    nvol: int
+    n_nodes: np.ndarray  # (MAX_VOL,) wheel nodes per volume
+    kmin: np.ndarray  # (MAX_VOL,) slice span of each volume
+    kmax: np.ndarray
 
 
 @njit(cache=True)
@@ -50,18 +124,20 @@ def _interp(x, xs, ys):
 
 
 @njit(cache=True)
-def _wheel_normal(p, side, centre, R, d, ts, tdr, s_lo, s_hi):
-    """Outward wheel normal (track) at the wheel-surface location of ``p``, and its s."""
+def wheel_normal(p, side, pose, wheel):
+    """Outward wheel normal (track frame) at the wheel-surface location of ``p``, and its
+    profile coordinate ``s`` (slope from the 10 µm table)."""
+    centre, R = pose.centre, pose.R
     q0 = p[0] - centre[0]
     q1 = p[1] - centre[1]
     q2 = p[2] - centre[2]
     c0 = R[0, 0] * q0 + R[1, 0] * q1 + R[2, 0] * q2
     c1 = R[0, 1] * q0 + R[1, 1] * q1 + R[2, 1] * q2
     c2 = R[0, 2] * q0 + R[1, 2] * q1 + R[2, 2] * q2
-    s = side * c1 - d
-    s = min(max(s, s_lo), s_hi)
+    s = side * c1 - wheel.d
+    s = min(max(s, wheel.s_lo), wheel.s_hi)
     phi = np.arctan2(c0, -c2)
-    dr = _interp(s, ts, tdr)
+    dr = _interp(s, wheel.tab_s, wheel.tab_dr)
     inv = 1.0 / np.sqrt(1.0 + dr * dr)
     nb0, nb1, nb2 = np.sin(phi) * inv, -side * dr * inv, -np.cos(phi) * inv
     out = np.empty(3)
@@ -71,37 +147,16 @@ def _wheel_normal(p, side, centre, R, d, ts, tdr, s_lo, s_hi):
 
 
 @njit(cache=True)
-def contacts_side(
-    method,
-    side,
-    body_pts,
-    body_nrm,
-    kidx,
-    centre,
-    R,
-    ru,
-    rz,
-    rnu,
-    rnz,
-    h_x,
-    rail_pts,
-    rail_nrm,
-    ws,
-    wr,
-    wdr,
-    d,
-    dphi,
-    ts,
-    tdr,
-    s_lo,
-    s_hi,
-    K,
-):
-    """Contacts of one wheel at pose (centre, R).
+def search_wheel_nodes(win, rail, pose):
+    """Eq. (2) for every wheel node of the window, and the volumes of §4.6.
 
-    Returns (n, wheel_point (MAX_VOL,3), rail_point (MAX_VOL,3), n_wheel (MAX_VOL,3),
-    C (MAX_VOL,), s (MAX_VOL,), n_w (MAX_VOL,), n_r (MAX_VOL,)) with volumes unsorted.
-    """
+    A wheel node ``P_i`` (outward normal ``N_i``), paired with its nearest rail node ``P_j``
+    (normal ``N_j``), is in the intersecting volume when ``V_ij . N_j >= 0`` and
+    ``V_ij . N_i <= 0`` with ``V_ij = P_j - P_i`` (eq. 2). §4.6: the nodes of V_int (sorted by
+    slice) are split into separate volumes wherever a whole slice is outside V_int."""
+    side, centre, R = win.side, pose.centre, pose.R
+    body_pts, body_nrm, kidx = win.body_pts, win.body_nrm, win.k
+    ru, rz, h_x = rail.u, rail.z, rail.h_x
     nw = body_pts.shape[0]
     P = np.empty((nw, 3))
     N = np.empty((nw, 3))
@@ -117,15 +172,15 @@ def contacts_side(
             )
             N[i, a] = R[a, 0] * body_nrm[i, 0] + R[a, 1] * body_nrm[i, 1] + R[a, 2] * body_nrm[i, 2]
         u = side * P[i, 1]
-        lj = _nearest_rail(u, P[i, 2], ru, rz, K)
+        lj = _nearest_rail(u, P[i, 2], ru, rz, K_NEAR)
         Pj[i, 0] = np.round(P[i, 0] / h_x) * h_x
         Pj[i, 1] = side * ru[lj]
         Pj[i, 2] = rz[lj]
-        nj1, nj2 = side * rnu[lj], rnz[lj]
+        nj1, nj2 = side * rail.nu[lj], rail.nz[lj]
         v0, v1, v2 = Pj[i, 0] - P[i, 0], Pj[i, 1] - P[i, 1], Pj[i, 2] - P[i, 2]
         vni = v0 * N[i, 0] + v1 * N[i, 1] + v2 * N[i, 2]
-        inside[i] = (v1 * nj1 + v2 * nj2 >= 0.0) and (vni <= 0.0)
-    # volumes: wheel nodes are sorted by slice; split where a whole slice is outside V_int
+        inside[i] = (v1 * nj1 + v2 * nj2 >= 0.0) and (vni <= 0.0)  # eq. (2)
+    # §4.6: a new volume wherever a whole slice between two V_int nodes is outside
     vol = np.full(nw, -1)
     nvol = 0
     last_k = -(10**9)
@@ -136,189 +191,32 @@ def contacts_side(
                     nvol += 1
             vol[i] = nvol - 1
             last_k = kidx[i]
-    WP = np.zeros((MAX_VOL, 3))
-    RP = np.zeros((MAX_VOL, 3))
-    NW = np.zeros((MAX_VOL, 3))
-    C = np.full(MAX_VOL, -1e300)
-    S = np.zeros(MAX_VOL)
-    NWn = np.zeros(MAX_VOL, dtype=np.int64)
-    NRn = np.zeros(MAX_VOL, dtype=np.int64)
-    if nvol == 0:
-        return 0, WP, RP, NW, C, S, NWn, NRn
+    n_nodes = np.zeros(MAX_VOL, dtype=np.int64)
     kmin = np.full(MAX_VOL, 10**9)
     kmax = np.full(MAX_VOL, -(10**9))
     for i in range(nw):
         g = vol[i]
         if g < 0:
             continue
-        NWn[g] += 1
+        n_nodes[g] += 1
         kmin[g] = min(kmin[g], kidx[i])
         kmax[g] = max(kmax[g], kidx[i])
-        if method == MD or method == MND:
-            c = (
-                (P[i, 0] - Pj[i, 0]) * N[i, 0]
-                + (P[i, 1] - Pj[i, 1]) * N[i, 1]
-                + (P[i, 2] - Pj[i, 2]) * N[i, 2]
-            )
-            rp = Pj[i].copy()
-            if method == MND:
-                c, rp = _normal_to_rail(P[i], N[i], side, ru, rz, c)
-            if c > C[g]:
-                C[g] = c
-                WP[g] = P[i]
-                RP[g] = rp
-                NW[g] = N[i]
-        else:
-            for a in range(3):
-                WP[g, a] += P[i, a]
-    if method == LC:
-        _load_centres(
-            nvol,
-            WP,
-            RP,
-            NW,
-            C,
-            S,
-            NWn,
-            NRn,
-            kmin,
-            kmax,
-            vol,
-            Pj,
-            side,
-            centre,
-            R,
-            rail_pts,
-            rail_nrm,
-            ws,
-            wr,
-            wdr,
-            d,
-            dphi,
-            ts,
-            tdr,
-            s_lo,
-            s_hi,
-            K,
-        )
-    else:
-        for g in range(nvol):
-            _, S[g] = _wheel_normal(WP[g], side, centre, R, d, ts, tdr, s_lo, s_hi)
-    return nvol, WP, RP, NW, C, S, NWn, NRn
+    return WheelSearch(P, N, Pj, vol, nvol, n_nodes, kmin, kmax)
 
 
 @njit(cache=True)
-def _normal_to_rail(p, n, side, ru, rz, t0):
-    """Distance along -n from p to the piecewise-linear rail profile, and the rail point."""
-    u0, z0 = side * p[1], p[2]
-    nu, nz = side * n[1], n[2]
-    t = t0
-    m = ru.size
-    for _ in range(4):
-        u = u0 - t * nu
-        i = np.searchsorted(ru, u) - 1
-        i = min(max(i, 0), m - 2)
-        sl = (rz[i + 1] - rz[i]) / (ru[i + 1] - ru[i])
-        zr = rz[i] + sl * (u - ru[i])
-        f = (z0 - t * nz) - zr
-        df = -nz + sl * nu
-        if abs(df) > 1e-12:
-            t = t - f / df
-    rp = np.empty(3)
-    for a in range(3):
-        rp[a] = p[a] - t * n[a]
-    return t, rp
+def empty_contacts(ws):
+    """The :class:`Contacts` arrays of a search, to be filled by a method's stage."""
+    return Contacts(ws.nvol, np.zeros((MAX_VOL, 3)), np.zeros((MAX_VOL, 3)),
+                    np.zeros((MAX_VOL, 3)), np.full(MAX_VOL, -1e300), np.zeros(MAX_VOL),
+                    ws.n_nodes.copy(), np.zeros(MAX_VOL, dtype=np.int64))
 
 
 @njit(cache=True)
-def _load_centres(
-    nvol,
-    WP,
-    RP,
-    NW,
-    C,
-    S,
-    NWn,
-    NRn,
-    kmin,
-    kmax,
-    vol,
-    Pj,
-    side,
-    centre,
-    R,
-    rail_pts,
-    rail_nrm,
-    ws,
-    wr,
-    wdr,
-    d,
-    dphi,
-    ts,
-    tdr,
-    s_lo,
-    s_hi,
-    K,
-):
-    nr = rail_pts.shape[0]
-    for j in range(nr):
-        q0 = rail_pts[j, 0] - centre[0]
-        q1 = rail_pts[j, 1] - centre[1]
-        q2 = rail_pts[j, 2] - centre[2]
-        c0 = R[0, 0] * q0 + R[1, 0] * q1 + R[2, 0] * q2
-        c1 = R[0, 1] * q0 + R[1, 1] * q1 + R[2, 1] * q2
-        c2 = R[0, 2] * q0 + R[1, 2] * q1 + R[2, 2] * q2
-        rho = np.sqrt(c0 * c0 + c2 * c2)
-        k = _nearest_slice(side * c1, rho, ws, wr, d, K)
-        g = -1
-        for h in range(nvol):
-            if kmin[h] - 1 <= k <= kmax[h] + 1:
-                g = h
-                break
-        if g < 0:
-            continue
-        phi = np.round(np.arctan2(c0, -c2) / dphi) * dphi
-        r, dr = wr[k], wdr[k]
-        b0, b1, b2 = r * np.sin(phi), side * (d + ws[k]), -r * np.cos(phi)
-        inv = 1.0 / np.sqrt(1.0 + dr * dr)
-        n0, n1, n2 = np.sin(phi) * inv, -side * dr * inv, -np.cos(phi) * inv
-        v = np.empty(3)
-        vn = 0.0
-        vm = 0.0
-        for a in range(3):
-            pa = centre[a] + R[a, 0] * b0 + R[a, 1] * b1 + R[a, 2] * b2
-            na = R[a, 0] * n0 + R[a, 1] * n1 + R[a, 2] * n2
-            v[a] = rail_pts[j, a] - pa
-            vn += v[a] * rail_nrm[j, a]
-            vm += v[a] * na
-        if vn >= 0.0 and vm <= 0.0:
-            NRn[g] += 1
-            for a in range(3):
-                RP[g, a] += rail_pts[j, a]
-    nw = vol.size
-    for g in range(nvol):
-        for a in range(3):
-            WP[g, a] /= NWn[g]
-        if NRn[g] > 0:
-            for a in range(3):
-                RP[g, a] /= NRn[g]
-        else:  # no rail node inside yet: the wheel nodes' nearest rail nodes
-            cnt = 0
-            for i in range(nw):
-                if vol[i] == g:
-                    cnt += 1
-                    for a in range(3):
-                        RP[g, a] += Pj[i, a]
-            for a in range(3):
-                RP[g, a] /= cnt
-        nwv, s = _wheel_normal(WP[g], side, centre, R, d, ts, tdr, s_lo, s_hi)
-        NW[g] = nwv
-        S[g] = s
-        C[g] = (
-            (WP[g, 0] - RP[g, 0]) * nwv[0]
-            + (WP[g, 1] - RP[g, 1]) * nwv[1]
-            + (WP[g, 2] - RP[g, 2]) * nwv[2]
-        )
+def set_profile_coordinates(out, side, pose, wheel):
+    """``s`` of each contact's wheel point (the methods that pick a node)."""
+    for g in range(out.n):
+        _, out.s[g] = wheel_normal(out.wheel_point[g], side, pose, wheel)
 
 
 @njit(cache=True)

@@ -12,10 +12,17 @@ window holds every node of the intersecting volume.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
-from lutmpi.contact.kernels import window_rail_nodes, window_wheel_nodes
+from lutmpi.contact.kernels import (
+    RailArrays,
+    WheelArrays,
+    WindowArrays,
+    window_rail_nodes,
+    window_wheel_nodes,
+)
 from lutmpi.geometry.track import PlacedRail, WheelGeometry
 
 
@@ -60,6 +67,13 @@ class WheelMesh:
             tab_s=tab_s,
             tab_dr=wheel.dr(tab_s),
         )
+
+    @cached_property
+    def arrays(self) -> WheelArrays:
+        """The grid as the compiled kernels take it."""
+        w = self.wheel
+        return WheelArrays(self.s, self.r, self.dr, float(w.d), float(self.dphi), self.tab_s,
+                           self.tab_dr, float(w.s_min), float(w.s_max))
 
     def body_points(
         self, side: float, k: np.ndarray, m: np.ndarray
@@ -111,6 +125,11 @@ class RailMesh:
         inv = 1.0 / np.sqrt(1.0 + sl * sl)
         return cls(rail=rail, h_lat=h_lat, h_x=h_x, u=u, z=z, nu=-sl * inv, nz=inv)
 
+    @cached_property
+    def arrays(self) -> RailArrays:
+        """The grid as the compiled kernels take it."""
+        return RailArrays(self.u, self.z, self.nu, self.nz, float(self.h_x))
+
     def nearest_node(self, u: np.ndarray, z: np.ndarray, K: int = 3) -> np.ndarray:
         """Index of the profile node nearest to (u, z)."""
         i0 = np.searchsorted(self.u, u)
@@ -134,6 +153,12 @@ class Window:
     body_nrm: np.ndarray
     rail_pts: np.ndarray  # (n, 3) track frame
     rail_nrm: np.ndarray  # (n, 3) track frame
+
+    @cached_property
+    def arrays(self) -> WindowArrays:
+        """The window as the compiled kernels take it."""
+        return WindowArrays(float(self.side), self.k, self.body_pts, self.body_nrm,
+                            self.rail_pts, self.rail_nrm)
 
 
 def build_window(

@@ -2,7 +2,7 @@
 
 Nonlinear: bisection on V with :func:`lutmpi.dynamics.simulate.simulate`; a speed is "hunting"
 when the oscillation started by a small lateral velocity persists or grows (see
-:func:`lutmpi.dynamics.simulate.classify`).
+:func:`lutmpi.dynamics.stability.classify`, the rule simulate uses too).
 
 Linear (the cross-check): the classical free-wheelset model in (y, yaw) (Wickens; Garg &
 Dukkipati §8) with its coefficients taken from the same contact provider at the centred pose:
@@ -276,9 +276,9 @@ def nonlinear_critical_speed(provider: ContactProvider, params: WheelsetParams, 
     def kind(v: float) -> str:
         r = simulate(provider, params, v, duration, vy0=vy0, events=False, rtol=rtol,
                      atol=atol, dt_out=0.01, **sim_kw)
-        s = classify(r.t, r.y, growth_tol=0.0)
+        s = r.summary if r.summary is not None else classify(r.t, r.y)   # the run's own verdict
         runs.append((v, s.kind, s.growth_rate))
-        log.info("V = %.3f m/s: %s", v, s.line())
+        log.info("V = %.4g m/s: %s", v, s.line())
         return s.kind
 
     lo_kind, hi_kind = kind(v_lo), kind(v_hi)
@@ -287,7 +287,10 @@ def nonlinear_critical_speed(provider: ContactProvider, params: WheelsetParams, 
     lo, hi = v_lo, v_hi
     while (hi - lo) > rel_tol * hi:
         mid = 0.5 * (lo + hi)
-        if kind(mid) == "stable":
+        verdict = kind(mid)
+        if verdict == "undetermined":          # too short to tell: stop with the bracket so far
+            return NonlinearCritical(float("nan"), lo, hi, tuple(runs), False)
+        if verdict == "stable":
             lo = mid
         else:
             hi = mid

@@ -29,7 +29,6 @@ from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.signal import find_peaks
 
 from lutmpi.dynamics.contact_provider import (
     FAILED_POINT,
@@ -38,6 +37,7 @@ from lutmpi.dynamics.contact_provider import (
     ContactGeometry,
     ContactProvider,
 )
+from lutmpi.dynamics.stability import Summary, classify  # noqa: F401 (the one rule)
 from lutmpi.dynamics.wheelset import (
     STATE_NAMES,
     ContactForces,
@@ -69,59 +69,6 @@ class _Memo:
             self.geom = self.provider.evaluate(*key)
             self.key = key
         return self.geom  # type: ignore[return-value]
-
-
-@dataclass
-class Summary:
-    """Classification of a run: ``kind`` is ``"stable"`` (the oscillation decays) or
-    ``"hunting"`` (it persists or grows); growth rate of the peak envelope (1/s, last half of
-    the peaks), limit-cycle amplitude (m, mean peak over the last quarter), first peak (m)."""
-
-    kind: str
-    growth_rate: float
-    amplitude: float
-    first_amplitude: float
-    n_peaks: int
-
-    def line(self) -> str:
-        return (f"{self.kind}: growth rate {self.growth_rate:+.3f} 1/s, final amplitude "
-                f"{self.amplitude * 1e3:.3f} mm (first peak {self.first_amplitude * 1e3:.3f} mm, "
-                f"{self.n_peaks} peaks)")
-
-
-def classify(t: np.ndarray, y: np.ndarray, growth_tol: float = 0.02,
-             floor: float = 1e-3) -> Summary:
-    """Stable or hunting from a lateral-displacement history.
-
-    Peaks of ``|y|`` form the envelope; its log-linear growth rate over the last half of the
-    peaks decides: hunting iff the rate exceeds ``-growth_tol`` (1/s) -- a growing oscillation
-    or a limit cycle -- unless the motion has decayed below ``floor`` times its first peak.
-
-    Parameters
-    ----------
-    t, y : ndarray, shape (n,)
-        Times (s) and lateral shift (m), evenly sampled.
-    growth_tol : float
-        1/s.
-    floor : float
-        Relative amplitude below which a run is stable whatever its fitted rate.
-    """
-    ay = np.abs(np.asarray(y, float))
-    pk, _ = find_peaks(ay)
-    if pk.size < 3:
-        kind = "stable" if ay[-1] < 0.5 * ay.max(initial=0.0) or ay.max(initial=0) == 0 else \
-            "hunting"
-        return Summary(kind, float("nan"), float(ay[-1]), float(ay.max(initial=0.0)), int(pk.size))
-    tp, ap = t[pk], ay[pk]
-    half = tp >= tp[0] + 0.5 * (tp[-1] - tp[0])
-    if half.sum() < 2:
-        half[-2:] = True
-    slope = float(np.polyfit(tp[half], np.log(np.maximum(ap[half], 1e-300)), 1)[0])
-    last = tp >= t[0] + 0.75 * (t[-1] - t[0])
-    amp = float(ap[last].mean()) if last.any() else float(ap[-1])
-    first = float(ap[0])
-    hunting = slope > -growth_tol and amp > floor * first
-    return Summary("hunting" if hunting else "stable", slope, amp, first, int(pk.size))
 
 
 @dataclass

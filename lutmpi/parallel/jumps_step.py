@@ -36,18 +36,20 @@ def _all_rows(comm: Any, row_start: int, blocks: dict[str, dict[str, np.ndarray]
             for m in blocks}
 
 
-def add_jumps(comm: Any, f: Any, grid: Any, config: Any, scene: Any, solver: Any,
-              methods: tuple[str, ...], fields: Any, row_start: int,
+def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
+              methods: tuple[str, ...], fields: Any, f: Any, io: Any, row_start: int,
               blocks: dict[str, dict[str, np.ndarray]]) -> None:
     """Locate, refine and write the jumps of every method, and the dynamics attributes.
 
     Parameters
     ----------
     comm : communicator (or :class:`lutmpi.parallel.runner.SelfComm`)
-    f : h5py.File
-        The open partial file (collective with several ranks).
     grid, config, scene, solver, methods, fields
         As in the build.
+    f : h5py.File
+        The open partial file (collective with several ranks).
+    io : lutmpi.table.h5io.SerialH5
+        The writer's HDF5 strategy.
     row_start, blocks
         This rank's complete row block (method -> name -> array).
     """
@@ -66,7 +68,7 @@ def add_jumps(comm: Any, f: Any, grid: Any, config: Any, scene: Any, solver: Any
         js, n_cells = _locate(comm, grid, arrays, solve, lfields)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
-        h5io.write_jumps(f, comm, method, js.arrays, js.limits, js.knot_y, js.knots, {
+        h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
             "interpolants": json.dumps(modes), "candidate_m": _jumps.CANDIDATE_M,
             "confirm_m": _jumps.CONFIRM_M, "tol_m": _jumps.TOL_M,
             "refine_tol": json.dumps(_jumps.REFINE_TOL), "min_width_m": _jumps.MIN_WIDTH_M})

@@ -20,6 +20,35 @@ from typing import Any
 from lutmpi.errors import MPIUnavailableError
 
 ENV_FILE = Path(__file__).with_name("mpi.env")
+#: (rank, size) variables set by the launchers: Open MPI's mpirun, Hydra/PMI-2, PMIx, Slurm's srun
+_LAUNCHER_VARS = (("OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE"), ("PMI_RANK", "PMI_SIZE"),
+                  ("PMIX_RANK", None), ("SLURM_PROCID", "SLURM_NTASKS"))
+
+
+def launched_rank_size(environ: Mapping[str, str] | None = None) -> tuple[int, int] | None:
+    """THE answer to "am I under mpirun/srun?": ``(rank, size)`` from the launcher's environment,
+    or ``None`` when no launcher started this process. Reads the environment only (importing
+    mpi4py would initialise MPI); a launcher that gives no size counts as size 1 here."""
+    env = os.environ if environ is None else environ
+    for rank_var, size_var in _LAUNCHER_VARS:
+        if rank_var in env:
+            try:
+                return int(env[rank_var]), int(env.get(size_var or "", "1") or 1)
+            except ValueError:
+                continue
+    return None
+
+
+def command_comm() -> Any:
+    """The communicator a command runs on: ``MPI.COMM_WORLD`` under a launcher with more than one
+    rank (parallel h5py required), else ``None`` (one process, no MPI)."""
+    if launched_rank_size() is None:
+        return None
+    comm = get_comm()
+    if comm.size <= 1:
+        return None
+    require_parallel_h5py()   # fail early and clearly, on every rank alike
+    return comm
 
 
 def get_comm() -> Any:

@@ -3,28 +3,33 @@
 Flow (every rank runs it; ``comm=None`` means one process):
 
 1. Pure set-up on every rank (grid, methods, fields: a bad config fails everywhere alike).
-2. Rank 0 decides alone (output checks, metadata, the scene) and broadcasts the value *or the
-   exception*; every rank then raises the same error, nobody waits in a barrier.
-3. The partial file ``<out>.partial`` is created (or, with ``resume``, read back) collectively.
+2. Rank 0 decides alone (the writer's output checks and lock, the journal check on resume, the
+   metadata, the scene) and broadcasts the value *or the exception*; every rank then raises the same
+   error, nobody waits in a barrier.
+3. The :class:`~lutmpi.parallel.writer.TableWriter` creates the partial file collectively and
+   loads the verified points of a resumed build.
 4. The points still to do are handed out one at a time from a counter every rank advances
-   atomically (``workqueue``; static splits on request) and solved with no communication
-   at all; each rank checkpoints its own points into the partial file (independent raw-data
-   writes) every ``checkpoint_interval_s``. At the end the results travel to the rank owning their
-   rows (one ``alltoall``) and every rank writes its row block collectively.
-5. ``complete`` is set last, rank 0 renames the partial file to the output path.
+   atomically (``workqueue``; static splits on request) and solved with no communication at all;
+   each batch is journaled by its rank the moment it is computed.
+5. The writer writes the table collectively, sets ``complete`` and renames it into place.
 
 Any exception after step 2 on any rank is logged with the rank (and the grid point when a solve
-raised) and ends the whole job with ``comm.Abort(1)``: no rank is left in a collective call.
+raised) and ends the whole job with ``comm.Abort(1)``: no rank is left in a collective call. A
+SIGINT/SIGTERM ends the build with a message saying the journal keeps what was computed.
 The table never depends on the number of ranks: every point is solved by the same pure code, and
 where it was solved does not enter the file.
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import json
 import logging
 import os
+import signal
 import subprocess
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -37,13 +42,15 @@ import numpy as np
 from lutmpi import __version__
 from lutmpi.config.model import ALL_METHODS, Config
 from lutmpi.equilibrium.result import STATUS
-from lutmpi.errors import ConfigError
+from lutmpi.errors import BuildInterruptedError, ConfigError, LutmpiError
 from lutmpi.parallel import partition
+from lutmpi.parallel.comm import SelfComm, root_decides
 from lutmpi.parallel.jumps_step import add_jumps
 from lutmpi.parallel.workqueue import make_counter
-from lutmpi.table import h5io
-from lutmpi.table.compute import Records, Solver, compute_points, default_solver
+from lutmpi.parallel.writer import TableWriter
+from lutmpi.table.compute import Solver, compute_points, default_solver
 from lutmpi.table.grid import Grid
+from lutmpi.table.provenance import input_record
 from lutmpi.table.schema import SCHEMA_VERSION, select_fields
 
 log = logging.getLogger(__name__)
@@ -51,28 +58,6 @@ log = logging.getLogger(__name__)
 #: a rank looks at the clock (checkpoint, progress) this many times over its points, at most
 N_STEPS = 200
 PROGRESS_EVERY_S = 10.0
-
-
-class SelfComm:
-    """The communicator of a single process (no MPI): the collectives are identities."""
-
-    rank = 0
-    size = 1
-
-    def bcast(self, obj: Any, root: int = 0) -> Any:
-        return obj
-
-    def allreduce(self, obj: Any, op: Any = None) -> Any:
-        return obj
-
-    def gather(self, obj: Any, root: int = 0) -> list[Any]:
-        return [obj]
-
-    def alltoall(self, objs: list[Any]) -> list[Any]:
-        return list(objs)
-
-    def Barrier(self) -> None:  # noqa: N802 - mpi4py's name
-        pass
 
 
 @dataclass
@@ -121,21 +106,8 @@ def git_commit() -> str:
     return out.stdout.strip() if out.returncode == 0 else ""
 
 
-def _root_decides(comm: Any, fn: Callable[[], Any]) -> Any:
-    """Run ``fn`` on rank 0 and broadcast its value or its exception; every rank returns/raises."""
-    value, error = None, None
-    if comm.rank == 0:
-        try:
-            value = fn()
-        except Exception as exc:  # broadcast, then every rank raises the same
-            error = exc
-    value, error = comm.bcast((value, error), root=0)
-    if error is not None:
-        raise error
-    return value
-
-
-def _make_scene(config: Config) -> Any:
+def make_scene(config: Config) -> Any:
+    """The production scene of ``config`` (:meth:`lutmpi.scene.Scene.from_config`)."""
     from lutmpi.scene import Scene
 
     return Scene.from_config(config)
@@ -162,13 +134,16 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
     force : bool
         Overwrite an existing table, discard an unfinished build.
     resume : bool
-        Continue from ``<out>.partial`` when present (same config), computing only missing points.
+        Continue an unfinished build (its journal ``<out>.journal/``) when there is one, computing
+        only the points not verified there; refused, naming the input, when the inputs' content
+        hashes differ.
     methods : sequence of str, optional
         Override ``output.methods``.
     scene_factory : callable, optional
         ``scene_factory(config) -> scene``; default :meth:`lutmpi.scene.Scene.from_config`.
     checkpoint_interval_s : float
-        Minimum time between two checkpoints of a rank's points into the partial file.
+        Longest time a journaled point waits for ``fsync`` (every point is written to the journal
+        the moment it is computed, which is what survives a kill).
     split : {"dynamic", "scattered", "cyclic", "block"}
         How the remaining points are dealt to ranks: handed out one at a time from a shared
         counter (default; see :mod:`lutmpi.parallel.workqueue`) or a static split.
@@ -181,96 +156,87 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
     ------
     TableError, ConfigError, GeometryError
         Problems found before compute, raised on every rank alike.
+    BuildInterruptedError
+        SIGINT or SIGTERM during compute (one process; under MPI the job is aborted).
     """
     comm = SelfComm() if comm is None else comm
     t_start = time.perf_counter()
-    out = Path(output_path)
     grid = Grid.from_config(config.grid)
     chosen = resolve_methods(config, methods)
     fields = select_fields(config.output.quantities)
     solver = solver or default_solver()
-    factory = scene_factory or _make_scene
-
-    def prepare() -> dict[str, Any]:
-        need = h5io.estimate_bytes(grid.n_points, len(chosen))
-        resuming = h5io.preflight(out, force=force, resume=resume, need_bytes=need)
-        toml = config.text
-        done = (h5io.check_partial(h5io.partial_path(out), chosen, fields, toml) if resuming
-                else None)
-        return {"done": done, "config_toml": toml,
-                "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
-                "git_commit": git_commit(), "scene": factory(config)}
-
-    plan = _root_decides(comm, prepare)
+    factory = scene_factory or make_scene
+    inputs = input_record(config) if comm.rank == 0 else None
+    inputs = comm.bcast(inputs, root=0)
+    writer = TableWriter(output_path, comm, grid, chosen, fields, inputs,
+                         sync_interval_s=checkpoint_interval_s)
+    try:   # an error here is raised on every rank alike (root_decides): nobody waits
+        prep = root_decides(comm, lambda: _prepare(writer, config, factory, force, resume))
+    except BaseException:
+        writer.close()
+        raise
     log.debug("prepared in %.3f s", time.perf_counter() - t_start)
     try:
-        return _run(comm, config, out, grid, chosen, fields, solver, plan, t_start,
-                    checkpoint_interval_s, split)
+        return _run(comm, writer, solver, prep, t_start, split, config)
     except BaseException as exc:
+        writer.close()
+        if isinstance(exc, BuildInterruptedError) and comm.rank == 0:
+            log.error("build of %s %s; the points computed so far are kept in %s: rerun with "
+                      "--resume to continue", writer.out, exc, writer.journal_dir)
         if comm.size > 1:
             _abort(comm, exc)
         raise
 
 
+def _prepare(writer: TableWriter, config: Config, factory: Callable[[Config], Any], force: bool,
+             resume: bool) -> dict[str, Any]:
+    """Rank 0: the writer's decision, the run metadata and the scene."""
+    plan = writer.prepare(force=force, resume=resume)
+    return {"plan": plan, "config_toml": config.text,
+            "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
+            "git_commit": git_commit(), "scene": factory(config)}
+
+
 def _abort(comm: Any, exc: BaseException) -> None:
     notes = "; ".join(getattr(exc, "__notes__", []))
-    log.critical("rank %d/%d failed: %s: %s%s -- aborting the job", comm.rank, comm.size,
-                 type(exc).__name__, exc, f" ({notes})" if notes else "", exc_info=exc)
+    if isinstance(exc, BuildInterruptedError):
+        log.critical("rank %d/%d %s -- ending the job; the journal keeps the points computed "
+                     "so far: rerun with --resume", comm.rank, comm.size, exc)
+    else:
+        log.critical("rank %d/%d failed: %s: %s%s -- aborting the job", comm.rank, comm.size,
+                     type(exc).__name__, exc, f" ({notes})" if notes else "",
+                     exc_info=None if isinstance(exc, LutmpiError) else exc)
     for handler in logging.getLogger().handlers:
         handler.flush()
     comm.Abort(1)
 
 
-@dataclass
-class _State:
-    """This rank's owned rows (write split) and the records waiting to be sent to their owners."""
-
-    row_start: int
-    row_count: int
-    blocks: dict[str, dict[str, np.ndarray]]
-    done_rows: np.ndarray
-    pending: list[tuple[np.ndarray, Records]] = field(default_factory=list)
-
-
-def _run(comm: Any, config: Config, out: Path, grid: Grid, methods: tuple[str, ...],
-         fields: Sequence[Any], solver: Solver, plan: dict[str, Any], t_start: float,
-         interval: float, split: str) -> BuildSummary:
-    partial = h5io.partial_path(out)
-    row_start, row_count = partition.block_range(grid.shape[0], comm.size, comm.rank)
-    if plan["done"] is not None:
-        done = plan["done"]
-        blocks = h5io.read_rows(partial, row_start, row_count, methods, fields)
-        comm.Barrier()  # every read handle closed before the file is opened for writing
-        log.info("resuming %s: %d of %d points already done", partial, int(done.sum()),
-                 grid.n_points)
-    else:
-        attrs = {"config_toml": plan["config_toml"], "lutmpi_version": __version__,
-                 "git_commit": plan["git_commit"], "created_utc": plan["created_utc"],
-                 "schema_version": SCHEMA_VERSION, "methods": json.dumps(list(methods)),
-                 "quantities": json.dumps([f.name for f in fields])}
-        h5io.create_partial(partial, comm, grid, methods, fields, attrs)
-        done = np.zeros(grid.shape, dtype=bool)
-        blocks = {m: {f.name: f.empty((row_count, grid.shape[1])) for f in fields}
-                  for m in methods}
-    log.debug("partial file ready at %.3f s", time.perf_counter() - t_start)
-    state = _State(row_start, row_count, blocks,
-                   done[row_start:row_start + row_count].astype(np.uint8))
-    todo = np.flatnonzero(~done.ravel())
-    f = h5io.open_rw(partial, comm)
-    busy = _compute_all(comm, f, grid, plan["scene"], methods, fields, solver, state,
-                        _batches(comm, todo, split), len(todo), interval)
-    _exchange(comm, grid, state)
-    h5io.write_blocks(f, comm, state.row_start, state.blocks, state.done_rows)
-    add_jumps(comm, f, grid, config, plan["scene"], solver, methods, fields, state.row_start,
-              state.blocks)   # issue 11: post-build step, jumps + dynamics attributes
-    log.debug("computed and written at %.3f s", time.perf_counter() - t_start)
+def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t_start: float,
+         split: str, config: Config) -> BuildSummary:
+    grid, methods = writer.grid, writer.methods
+    attrs = {"config_toml": prep["config_toml"], "lutmpi_version": __version__,
+             "git_commit": prep["git_commit"], "created_utc": prep["created_utc"],
+             "schema_version": SCHEMA_VERSION, "methods": json.dumps(list(methods)),
+             "quantities": json.dumps([f.name for f in writer.fields]),
+             "inputs": json.dumps(writer.inputs, sort_keys=True),
+             "ranks": comm.size, "wall_time_s": float("nan"),
+             "rank_busy_s": np.full(comm.size, np.nan)}
+    done = writer.begin(prep["plan"], attrs)
+    if prep["plan"].resume:
+        log.info("resuming %s: %d of %d points verified in the journal and reused", writer.out,
+                 int(done.sum()), grid.n_points)
+    todo = np.flatnonzero(~done)
+    busy = _compute_all(comm, writer, grid, prep["scene"], methods, solver,
+                        _batches(comm, todo, split), len(todo))
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
     busy_all = np.asarray(comm.bcast(comm.gather(busy, root=0), root=0), dtype=float)
-    h5io.finalize(f, {"ranks": comm.size, "wall_time_s": wall, "created_utc": plan["created_utc"],
-                      "rank_busy_s": busy_all})
-    comm.Barrier()
-    _root_decides(comm, lambda: os.replace(partial, out))
-    return _summarize(comm, out, grid, state, busy_all, len(todo), wall)
+    jsec = comm.gather(writer.journal_seconds, root=0)
+    writer.finish({"wall_time_s": wall, "rank_busy_s": busy_all}, after_grid=functools.partial(
+        add_jumps, comm, grid, config, prep["scene"], solver, methods, writer.fields))  # issue 11
+    if comm.rank == 0:
+        log.info("journal: %.3f s of writing and syncing over all ranks (%.2f %% of busy time)",
+                 sum(jsec), 100 * sum(jsec) / max(float(busy_all.sum()), 1e-12))
+    return _summarize(comm, writer, busy_all, len(todo), wall)
 
 
 def _batches(comm: Any, todo: np.ndarray, how: str) -> Iterator[tuple[np.ndarray, int]]:
@@ -293,31 +259,43 @@ def _batches(comm: Any, todo: np.ndarray, how: str) -> Iterator[tuple[np.ndarray
         yield mine[start:start + step], min((start + step) * comm.size, len(todo))
 
 
-def _compute_all(comm: Any, f: Any, grid: Grid, scene: Any, methods: tuple[str, ...],
-                 fields: Any, solver: Solver, state: _State,
-                 batches: Iterator[tuple[np.ndarray, int]], n_todo: int,
-                 interval: float) -> float:
-    """Solve this rank's points without waiting for any other rank; checkpoint them into the
-    partial file independently every ``interval`` seconds. Rank 0 logs the estimated global
-    progress."""
+def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
+                 methods: tuple[str, ...], solver: Solver,
+                 batches: Iterator[tuple[np.ndarray, int]], n_todo: int) -> float:
+    """Solve this rank's points without waiting for any other rank; journal each batch at once.
+    Rank 0 logs the estimated global progress. SIGINT/SIGTERM raise
+    :class:`~lutmpi.errors.BuildInterruptedError`."""
     busy = 0.0
-    t0 = last_flush = last_log = time.perf_counter()
-    unflushed: list[tuple[np.ndarray, Records]] = []
-    for points, handed_out in batches:
-        records, spent = compute_points(scene, grid, points, methods, solver, fields)
-        busy += spent
-        state.pending.append((points, records))
-        unflushed.append((points, records))
-        now = time.perf_counter()
-        if now - last_flush >= interval:
-            for pts, recs in unflushed:
-                h5io.write_points(f, grid, pts, recs)
-            unflushed.clear()
-            last_flush = now
-        if comm.rank == 0 and now - last_log >= PROGRESS_EVERY_S:
-            _log_progress(handed_out, n_todo, now - t0, "~")
-            last_log = now
+    t0 = last_log = time.perf_counter()
+    with _signals_raise():
+        for points, handed_out in batches:
+            records, spent = compute_points(scene, grid, points, methods, solver, writer.fields)
+            busy += spent
+            writer.record(points, records)
+            now = time.perf_counter()
+            if comm.rank == 0 and now - last_log >= PROGRESS_EVERY_S:
+                _log_progress(handed_out, n_todo, now - t0, "~")
+                last_log = now
     return busy
+
+
+@contextlib.contextmanager
+def _signals_raise() -> Iterator[None]:
+    """Turn SIGINT and SIGTERM into :class:`~lutmpi.errors.BuildInterruptedError` (main thread
+    only; the previous handlers are restored after)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        raise BuildInterruptedError(signum)
+
+    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
 
 
 def _log_progress(done: int, total: int, elapsed: float, approx: str = "") -> None:
@@ -327,42 +305,22 @@ def _log_progress(done: int, total: int, elapsed: float, approx: str = "") -> No
              total, 100.0 * done / max(total, 1), rate, eta, elapsed)
 
 
-def _exchange(comm: Any, grid: Grid, state: _State) -> None:
-    """Send pending records to the ranks owning their rows; store what this rank receives."""
-    owners = partition.owner_of_rows(grid.shape[0], comm.size)
-    outgoing: list[list[tuple[np.ndarray, Records]]] = [[] for _ in range(comm.size)]
-    for points, records in state.pending:
-        dest = owners[points // grid.shape[1]]
-        for rank in np.unique(dest):
-            sel = dest == rank
-            outgoing[rank].append((points[sel], {m: {k: v[sel] for k, v in r.items()}
-                                                 for m, r in records.items()}))
-    state.pending.clear()
-    for batch in comm.alltoall(outgoing):
-        for points, records in batch:
-            iy, iyaw = np.divmod(points, grid.shape[1])
-            rows = iy - state.row_start
-            for m, rec in records.items():
-                for k, v in rec.items():
-                    state.blocks[m][k][rows, iyaw] = v
-            state.done_rows[rows, iyaw] = 1
-
-
-def _summarize(comm: Any, out: Path, grid: Grid, state: _State, busy_all: np.ndarray,
-               computed: int, wall: float) -> BuildSummary:
+def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: int,
+               wall: float) -> BuildSummary:
     counts = np.zeros(len(STATUS), dtype=np.int64)
-    for rec in state.blocks.values():
+    for rec in writer.blocks.values():
         codes = rec["status"].ravel().astype(np.int64)
         counts += np.bincount(codes[(codes >= 0) & (codes < len(STATUS))], minlength=len(STATUS))
     counts = comm.allreduce(counts)
     names = {code: text.split(":")[0] for code, text in STATUS.items()}
+    grid, out = writer.grid, writer.out
     summary = BuildSummary(output=out, points=grid.n_points, computed=computed,
                            reused=grid.n_points - computed,
                            status_counts={names[c]: int(n) for c, n in enumerate(counts) if n},
                            wall_time_s=wall, busy_s=[float(b) for b in busy_all], ranks=comm.size)
     if comm.rank == 0:
         log.info("table %s: %d points (%d computed, %d reused) x %d method(s); status %s",
-                 out, summary.points, computed, summary.reused, len(state.blocks),
+                 out, summary.points, computed, summary.reused, len(writer.methods),
                  summary.status_counts)
         log.info("wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; parallel "
                  "efficiency %.1f %%", wall, comm.size,

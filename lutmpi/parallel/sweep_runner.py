@@ -9,8 +9,11 @@ Design (every rank runs it; ``comm=None`` means one process):
    :func:`lutmpi.parallel.runner.build_table` (a member's grid points are split over the ranks).
    So no rank idles while a member has at least as many points as there are ranks, and the table of
    a member is the same whatever the number of ranks.
-3. A member whose complete table is already in ``OUTDIR`` with the same configuration is skipped,
-   so a rerun continues an interrupted sweep (an interrupted member resumes from its partial file).
+3. A member whose complete table is already in ``OUTDIR``, computed from the same inputs (content
+   hashes of the profiles and the resolved config, :mod:`lutmpi.table.provenance`), is skipped, so
+   a rerun continues an interrupted sweep (an interrupted member resumes from its journal). A
+   table computed from other inputs (a profile file edited since) is not kept: the member fails
+   with a message naming the input, and ``--force`` recomputes it.
 4. A member that cannot be built (a profile file that does not parse, a geometry that cannot be
    placed: errors raised before compute, on every rank alike) is recorded as ``failed`` with its
    message, and the sweep goes on. An exception raised by the solver at one grid point becomes that
@@ -39,6 +42,8 @@ from typing import Any
 from lutmpi.config.model import Config, ContactConfig, GridConfig, OutputConfig
 from lutmpi.equilibrium.result import ERROR, STATUS, PoseResult
 from lutmpi.errors import LutmpiError
+from lutmpi.parallel.comm import SelfComm, root_decides
+from lutmpi.table import provenance
 
 log = logging.getLogger(__name__)
 
@@ -53,7 +58,7 @@ class MemberRecord:
 
     id: str
     params: dict[str, Any]
-    status: str = "pending"         # ok | failed
+    status: str = "pending"         # ok | partial (some poses failed) | failed | not selected
     message: str = ""
     skipped: bool = False           # complete table found, not rebuilt
     points: int = 0
@@ -78,7 +83,8 @@ class SweepSummary:
 
     @property
     def failed(self) -> list[MemberRecord]:
-        return [m for m in self.members if m.status != "ok"]
+        """Members without a table (``partial`` and ``not selected`` are not failures)."""
+        return [m for m in self.members if m.status == "failed"]
 
 
 class SceneCache:
@@ -135,21 +141,23 @@ def tolerant(solver: Solver) -> Solver:
     return solve
 
 
-def _table_state(path: Path, config_text: str) -> str:
-    """``"absent"``, ``"complete"`` (same config), ``"different"`` or ``"broken"``."""
+def _table_state(path: Path, inputs: dict[str, Any]) -> tuple[str, str]:
+    """``("absent"|"complete"|"different"|"broken", why)``: a complete table counts as this
+    member's only when its recorded input hashes equal ``inputs`` (content, not paths)."""
     if not path.exists():
-        return "absent"
+        return "absent", ""
     import h5py
 
     try:
         with h5py.File(path, "r") as f:
             if not bool(f.attrs.get("complete", False)):
-                return "broken"
-            text = f.attrs.get("config_toml", "")
-            text = text.decode() if isinstance(text, bytes) else str(text)
-    except OSError:
-        return "broken"
-    return "complete" if text == config_text else "different"
+                return "broken", "incomplete table"
+            text = f.attrs.get("inputs", "")
+            stored = json.loads(text.decode() if isinstance(text, bytes) else str(text or "{}"))
+    except (OSError, ValueError) as exc:
+        return "broken", str(exc)
+    diffs = provenance.differences(stored, inputs)
+    return ("different", "; ".join(diffs)) if diffs else ("complete", "")
 
 
 def _table_stats(path: Path) -> dict[str, Any]:
@@ -187,12 +195,6 @@ def write_index(outdir: Path, records: Sequence[MemberRecord]) -> None:
     os.replace(tmp, outdir / "index.json")
 
 
-def _root(comm: Any, fn: Callable[[], Any]) -> Any:
-    from lutmpi.parallel.runner import _root_decides
-
-    return _root_decides(comm, fn)
-
-
 def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], comm: Any = None, *,
               solver: Solver | None = None, scene_factory: Callable[[Config], Any] | None = None,
               force: bool = False, only: Sequence[str] | None = None) -> SweepSummary:
@@ -225,14 +227,14 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
         A bad sweep file, on every rank, before anything runs.
     """
     from lutmpi.config.sweep import expand_sweep
-    from lutmpi.parallel.runner import SelfComm, _make_scene, build_table
+    from lutmpi.parallel.runner import build_table, make_scene
     from lutmpi.table.compute import default_solver
 
     comm = SelfComm() if comm is None else comm
     members = expand_sweep(sweep)                      # pure: same list on every rank
     out = Path(outdir)
-    _root(comm, lambda: out.mkdir(parents=True, exist_ok=True))
-    cache = SceneCache(scene_factory or _make_scene)
+    root_decides(comm, lambda: out.mkdir(parents=True, exist_ok=True))
+    cache = SceneCache(scene_factory or make_scene)
     records: list[MemberRecord] = []
     summary = SweepSummary(out, records)
     base_solver: Solver | None = solver
@@ -241,15 +243,21 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
                            ranks=comm.size)
         records.append(rec)
         path = out / rec.table
-        state = _root(comm, lambda p=path, m=member: _table_state(p, m.config.text))
-        if (only and member.id not in only) or (state == "complete" and not force):
+        state, why = root_decides(comm, lambda p=path, m=member: _table_state(
+            p, provenance.input_record(m.config)))
+        if only and member.id not in only:
+            rec.status, rec.message = "not selected", "not in --only"
+            root_decides(comm, lambda: write_index(out, records))
+            continue
+        if state == "complete" and not force:
             _record_existing(comm, rec, path, state)
-            _root(comm, lambda: write_index(out, records))
+            root_decides(comm, lambda: write_index(out, records))
             continue
         if state == "different" and not force:
             rec.status, rec.message = "failed", (
-                f"{path.name} exists with a different configuration; remove it or use --force")
-            _root(comm, lambda: write_index(out, records))
+                f"{path.name} exists, computed from other inputs ({why}); remove it or use "
+                "--force to recompute it")
+            root_decides(comm, lambda: write_index(out, records))
             continue
         log.info("member %d/%d %s", n, len(members), member.id)
         t0 = time.perf_counter()
@@ -259,39 +267,58 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
             build_table(member.config, path, comm, solver=tolerant(base_solver),
                         force=force or state == "broken", resume=True, scene_factory=cache)
         except (LutmpiError, ImportError, OSError, ValueError, RuntimeError) as exc:
-            # raised before compute, on every rank alike (runner._root_decides): not a hang
+            # raised before compute, on every rank alike (comm.root_decides): not a hang
             rec.status, rec.message = "failed", f"{type(exc).__name__}: {exc}"
             log.error("member %s failed: %s", member.id, rec.message)
             log.debug("%s", traceback.format_exc())
         else:
             wall = time.perf_counter() - t0
             _record_built(comm, rec, path, wall)
-        _root(comm, lambda: write_index(out, records))
-    failed = [r.id for r in records if r.status != "ok"]
-    log.info("sweep done: %d members, %d ok, %d failed%s", len(records),
-             len(records) - len(failed), len(failed), f" ({', '.join(failed)})" if failed else "")
+        root_decides(comm, lambda: write_index(out, records))
+    log.info("sweep done: %d members: %s", len(records), _status_counts(records))
     return summary
+
+
+def _status_counts(records: Sequence[MemberRecord]) -> str:
+    """``"9 ok, 2 partial (a, b), 1 failed (c), 3 not selected"``."""
+    out = []
+    for status in ("ok", "partial", "failed", "not selected"):
+        ids = [r.id for r in records if r.status == status]
+        if ids:
+            named = status in ("partial", "failed")
+            out.append(f"{len(ids)} {status}" + (f" ({', '.join(ids)})" if named else ""))
+    return ", ".join(out) or "none"
+
+
+def _partial(rec: MemberRecord) -> None:
+    """A member with some failed poses is ``partial``, never ``ok`` (and says so at WARNING)."""
+    if rec.points and rec.failed_points == rec.points:
+        rec.status, rec.message = "failed", f"all {rec.points} points failed (see status)"
+    elif rec.failed_points:
+        rec.status = "partial"
+        rec.message = f"{rec.failed_points} of {rec.points} points not converged (see status)"
+        log.warning("member %s: %s", rec.id, rec.message)
+    else:
+        rec.status = "ok"
 
 
 def _record_existing(comm: Any, rec: MemberRecord, path: Path, state: str) -> None:
     if state != "complete":
         rec.status, rec.message = "failed", f"not run ({state} table)"
         return
-    stats = _root(comm, lambda: _table_stats(path))
-    rec.status, rec.skipped, rec.message = "ok", True, "complete table found"
+    stats = root_decides(comm, lambda: _table_stats(path))
+    rec.skipped = True
     for k, v in stats.items():
         setattr(rec, k, v)
+    _partial(rec)
+    if rec.status == "ok":
+        rec.message = "complete table found"
 
 
 def _record_built(comm: Any, rec: MemberRecord, path: Path, wall: float) -> None:
-    stats = _root(comm, lambda: _table_stats(path))
+    stats = root_decides(comm, lambda: _table_stats(path))
     for k, v in stats.items():
         setattr(rec, k, v)
     rec.wall_s = comm.bcast(wall, root=0)
     rec.ranks = comm.size
-    if rec.points and rec.failed_points == rec.points:
-        rec.status, rec.message = "failed", f"all {rec.points} points failed (see status)"
-    else:
-        rec.status = "ok"
-        if rec.failed_points:
-            rec.message = f"{rec.failed_points} of {rec.points} points not converged"
+    _partial(rec)

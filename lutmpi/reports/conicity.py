@@ -52,12 +52,13 @@ digits by cancellation near the ends. The transformed integral is done by adapti
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import integrate, optimize
 
 __all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
-           "dr_from_table"]
+           "dr_from_table", "check_dr", "DrCheck", "HoleError"]
 
 
 class _PiecewiseLinear:
@@ -265,45 +266,144 @@ def parse_amplitudes(text: str) -> np.ndarray:
 
 
 def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """``(y, dr)`` at yaw = 0 from a lookup table, SI.
+    """``(y, dr)`` at yaw = 0 from a lookup table, SI, **with NaN where a pose failed**.
 
     ``dr = r_left - r_right`` of contact slot 0 (the contact carrying the largest normal force) on
     each wheel: lutmpi's track frame has ``y`` positive to the left, so a positive ``y_g`` puts the
-    left wheel on its larger radii and this is EN 15302's ``dr`` (positive for ``y > 0``). Points
-    that did not converge (status != 0) are left out.
+    left wheel on its larger radii and this is EN 15302's ``dr`` (positive for ``y > 0``). A point
+    that did not converge (status != 0) is NaN: it is a hole, never integrated across; see
+    :func:`check_dr`.
 
     Parameters
     ----------
-    table : Mapping
-        As returned by ``lutmpi.table.h5io.read_table`` (``y``, ``yaw``, ``methods``).
+    table : lutmpi.table.Table or Mapping
+        A :class:`~lutmpi.table.Table`, or a mapping with ``y``, ``yaw``, ``methods``.
     method : str, optional
-        Method group; default the table's only (or first) method.
+        Method group; default the table's first method.
 
     Returns
     -------
-    y : ndarray, shape (k,)
+    y : ndarray, shape (ny,)
         m.
-    dr : ndarray, shape (k,)
-        m.
+    dr : ndarray, shape (ny,)
+        m; NaN at failed points.
 
     Raises
     ------
     ValueError
         The grid has no yaw = 0 column, or the table holds no rolling radii.
     """
-    yaw = np.asarray(table["yaw"], dtype=float)
+    if hasattr(table, "get") and hasattr(table, "methods") and not isinstance(table, dict):
+        y, yaw = np.asarray(table.y, float), np.asarray(table.yaw, float)
+        name = method or table.methods[0]
+        group = {k: table.get(k, name, raw=True) for k in table.quantities}
+    else:
+        y, yaw = np.asarray(table["y"], float), np.asarray(table["yaw"], float)
+        name = method or next(iter(table["methods"]))
+        group = table["methods"][name]
     j = int(np.argmin(np.abs(yaw)))
     if abs(yaw[j]) > 1e-12:
         raise ValueError(f"no yaw = 0 column in the grid (closest {yaw[j]:.3g} rad): "
                          "equivalent conicity needs the wheelset at zero yaw")
-    methods = table["methods"]
-    name = method or next(iter(methods))
-    group = methods[name]
     if "rolling_radius" not in group:
         raise ValueError(f"method {name!r}: the table holds no rolling_radius")
     rr = np.asarray(group["rolling_radius"], dtype=float)[:, j, :, 0]
     dr = rr[:, 0] - rr[:, 1]
-    ok = np.isfinite(dr)
     if "status" in group:
-        ok &= np.asarray(group["status"])[:, j] == 0
-    return np.asarray(table["y"], dtype=float)[ok], dr[ok]
+        dr = np.where(np.asarray(group["status"])[:, j] == 0, dr, np.nan)
+    return y, dr
+
+
+#: EN 15302's benchmark Δr data are given every 0.1 mm: a coarser y grid is flagged
+MAX_DY = 1e-4
+
+
+class HoleError(ValueError):
+    """Δr(y) has no value (a failed pose) inside the range an amplitude's motion covers."""
+
+
+@dataclass
+class DrCheck:
+    """What :func:`check_dr` found (SI).
+
+    Attributes
+    ----------
+    y, dr : ndarray
+        The finite samples to integrate (ends without a value dropped).
+    holes : ndarray
+        ``y`` of every missing Δr value of the table, m.
+    beyond : ndarray
+        Requested amplitudes whose motion does not fit in the table's y range, m.
+    dy : float
+        Largest y step, m.
+    warnings : list of str
+        One line per finding (holes outside the amplitude range, beyond, coarse Δy).
+    """
+
+    y: np.ndarray
+    dr: np.ndarray
+    holes: np.ndarray
+    beyond: np.ndarray
+    dy: float
+    warnings: list[str]
+
+
+def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
+    """Refuse or flag what would make an equivalent conicity hide a gap in Δr(y).
+
+    * A hole (NaN: a failed pose) at ``|y| < max(amplitudes)`` -- inside the lateral range the
+      requested motions cover -- raises :class:`HoleError` naming its y (``refuse_holes``) or, if
+      not refused, limits the amplitudes to those that stay clear of it (``beyond`` then lists the
+      others and a warning names the hole).
+    * Amplitudes whose motion does not fit in the table's y range are listed in ``beyond``.
+    * A y step above 0.1 mm (:data:`MAX_DY`) adds a warning.
+
+    Parameters
+    ----------
+    y, dr : array_like, shape (n,)
+        m; ``dr`` NaN where missing.
+    amplitudes : array_like
+        m.
+    refuse_holes : bool
+        Raise on a hole inside the amplitude range (the ``conicity`` command) instead of limiting
+        the amplitudes (the reports, which show the limit).
+    """
+    y = np.asarray(y, float)
+    dr = np.asarray(dr, float)
+    amps = np.atleast_1d(np.asarray(amplitudes, float))
+    holes = y[~np.isfinite(dr)]
+    warnings: list[str] = []
+    amax = float(amps.max()) if amps.size else 0.0
+    inside = holes[np.abs(holes) < amax]
+    dy = float(np.max(np.diff(y))) if y.size > 1 else math.inf
+    if inside.size and refuse_holes:
+        raise HoleError(
+            f"Δr has no value at y = {_mm_list(inside)} mm (failed poses) inside the amplitude "
+            f"range ±{amax * 1e3:g} mm: the conicity would integrate across the hole; use "
+            f"amplitudes below {np.abs(inside).min() * 1e3:g} mm or rebuild those poses")
+    reach = min(-float(y[0]), float(y[-1]))
+    nearest = float(np.abs(holes).min()) if holes.size else math.inf
+    if inside.size:
+        warnings.append(f"Δr missing at y = {_mm_list(inside)} mm (failed poses): amplitudes "
+                        f">= {nearest * 1e3:g} mm not computed")
+    elif holes.size:
+        warnings.append(f"Δr missing at y = {_mm_list(holes)} mm (failed poses), outside the "
+                        "amplitudes used")
+    beyond = amps[amps > min(reach, nearest) + 1e-12]
+    off_table = amps[amps > reach + 1e-12]
+    if off_table.size:
+        warnings.append(f"amplitudes {_mm_list(off_table, span=True)} mm: beyond the table's "
+                        f"y range [{y[0] * 1e3:g}, {y[-1] * 1e3:g}] mm, not computed")
+    if dy > MAX_DY * (1 + 1e-9):
+        warnings.append(f"y step {dy * 1e3:g} mm is coarser than 0.1 mm (EN 15302's benchmark "
+                        "data): the conicity of a non-linear Δr(y) carries that discretisation")
+    # never join across a hole: integrate only the run of values around y = 0
+    keep = np.isfinite(dr) & (np.abs(y) < nearest)
+    return DrCheck(y[keep], dr[keep], holes, beyond, dy, warnings)
+
+
+def _mm_list(values: np.ndarray, span: bool = False) -> str:
+    v = np.sort(np.asarray(values)) * 1e3
+    if span and v.size > 2:
+        return f"{v[0]:g}–{v[-1]:g}"
+    return ", ".join(f"{x:g}" for x in v)

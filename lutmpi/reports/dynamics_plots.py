@@ -9,6 +9,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 from lutmpi.dynamics.simulate import SimulationResult  # noqa: E402
 
@@ -24,6 +25,30 @@ def _series(run: SimulationResult, key: str):
     if key == "fy":
         return [(run.lateral_creep_force[:, 0], "left"), (run.lateral_creep_force[:, 1], "right")]
     return [({"y": run.y, "yaw": run.yaw, "roll": run.roll}[key], None)]
+
+
+#: the start-up transient left out of the axis scaling: this fraction of the run, at least 0.2 s
+STARTUP_FRACTION, STARTUP_MIN_S = 0.05, 0.2
+
+
+def steady_limits(t: np.ndarray, series: Sequence[np.ndarray]) -> tuple[float, float] | None:
+    """y-axis limits that show the oscillation after the start-up transient.
+
+    The first :data:`STARTUP_FRACTION` of the run (at least :data:`STARTUP_MIN_S`) is left out of
+    the scaling, so a spike at t = 0 (the initial creep forces) does not squash the rest; None when
+    nothing is left to scale on."""
+    t = np.asarray(t, float)
+    if t.size < 2:
+        return None
+    t0 = t[0] + max(STARTUP_FRACTION * (t[-1] - t[0]), STARTUP_MIN_S)
+    keep = t >= t0
+    vals = np.concatenate([np.asarray(v, float)[keep] for v in series]) if keep.any() else []
+    vals = np.asarray(vals)[np.isfinite(vals)] if len(vals) else np.asarray([])
+    if vals.size == 0:
+        return None
+    lo, hi = float(vals.min()), float(vals.max())
+    pad = 0.08 * (hi - lo) or 0.08 * max(abs(hi), 1e-12)
+    return lo - pad, hi + pad
 
 
 def plot_run(runs: Sequence[SimulationResult], prefix: str | Path,
@@ -43,10 +68,21 @@ def plot_run(runs: Sequence[SimulationResult], prefix: str | Path,
     out = []
     for key, title, ylabel, scale in _PANELS:
         fig, ax = plt.subplots(figsize=(7, 3.2), constrained_layout=True)
+        limits, extreme = [], 0.0
         for run, label in zip(runs, labels, strict=True):
-            for data, side in _series(run, key):
-                ax.plot(run.t, data * scale, lw=1.0,
+            series = [data * scale for data, _ in _series(run, key)]
+            for data, (_, side) in zip(series, _series(run, key), strict=True):
+                ax.plot(run.t, data, lw=1.0,
                         label=label if side is None else f"{label}, {side}")
+            extreme = max([extreme] + [float(np.nanmax(np.abs(d))) for d in series if d.size])
+            lim = steady_limits(run.t, series)
+            if lim is not None:
+                limits.append(lim)
+        if limits:
+            lo, hi = min(a for a, _ in limits), max(b for _, b in limits)
+            ax.set_ylim(lo, hi)
+            if extreme > max(abs(lo), abs(hi)):
+                title += f"; start-up peak {extreme:.3g} off the axis"
         ax.set_xlabel("t [s]")
         ax.set_ylabel(ylabel)
         ax.set_title(title, fontsize=10)

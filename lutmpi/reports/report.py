@@ -3,7 +3,9 @@
 Reads ``OUTDIR/index.json`` (written by ``lutmpi sweep``) and the members' tables, and writes
 ``REPORT/report.md``, ``REPORT/errors.csv`` and PNG figures. The metrics are computed by the pure
 :mod:`lutmpi.reports.convergence` and :mod:`lutmpi.reports.conicity`; this module only reads files
-(tables through :func:`lutmpi.table.h5io.read_table`, imported when needed) and writes the outputs.
+(tables through :class:`lutmpi.table.Table`, the one reader) and writes the outputs. A member with
+failed poses (status ``partial``) is read and reported with its holes named; members ``not
+selected`` by ``sweep --only`` or ``failed`` are listed, not read.
 """
 
 from __future__ import annotations
@@ -45,10 +47,22 @@ class SweepData:
     unreadable: list[tuple[str, str]] = field(default_factory=list)
 
 
-def load_sweep(outdir: str | Path) -> SweepData:
-    """Read ``index.json`` and every table of status ``ok`` (or every ``*.h5`` without index)."""
-    from lutmpi.table.h5io import read_table
+#: member statuses whose table is complete and read (``partial``: some poses failed)
+READABLE = ("ok", "partial")
 
+
+def read_member(path: str | Path) -> dict[str, Any]:
+    """A member table as the mapping the metrics take (``y``, ``yaw``, ``attrs``, ``methods``,
+    ``meta``), read by :class:`lutmpi.table.Table` with the stored values (failed points keep
+    their status; the metrics mask them)."""
+    from lutmpi.table import Table
+
+    t = Table.open(path, mask_failed=False)
+    return {"y": t.y, "yaw": t.yaw, "attrs": t.attrs, "methods": t.data, "meta": t.meta}
+
+
+def load_sweep(outdir: str | Path) -> SweepData:
+    """Read ``index.json`` and every table of status ``ok``/``partial`` (or every ``*.h5``)."""
     out = Path(outdir)
     if not out.is_dir():
         raise TableError(f"{out}: no such sweep directory")
@@ -62,10 +76,10 @@ def load_sweep(outdir: str | Path) -> SweepData:
         raise TableError(f"{out}: no index.json and no tables")
     data = SweepData(out, index)
     for entry in index:
-        if entry.get("status") != "ok":
+        if entry.get("status") not in READABLE:
             continue
         try:
-            table = read_table(out / entry["table"])
+            table = read_member(out / entry["table"])
         except TableError as exc:
             data.unreadable.append((entry["id"], str(exc)))
             continue
@@ -200,14 +214,19 @@ def _wear(data: SweepData, report: Path) -> list[str]:
             "y > 0, to the left). `–` = the amplitude does not fit in the table's y range.", "",
             "| member | tan γe at ŷ = 1 mm | 2 mm | 3 mm | 4 mm | 6 mm | max ŷ [mm] |",
             "|---|---|---|---|---|---|---|"]
+    notes = []
     for t in data.tables:
         try:
-            y, dr = con.dr_from_table(t.table, t.method)
+            y_all, dr_all = con.dr_from_table(t.table, t.method)
         except ValueError as exc:
             rows.append(f"| {t.id} | {exc} | | | | | |")
             continue
+        found = con.check_dr(y_all, dr_all, amps, refuse_holes=False)
+        notes += [f"- `{t.id}`: {w}" for w in found.warnings if "coarser" not in w]
+        y, dr = found.y, found.dr
         if y.size < 3:
-            rows.append(f"| {t.id} | fewer than 3 converged points at yaw 0 | | | | | |")
+            rows.append(f"| {t.id} | fewer than 3 converged points around y = 0 at yaw 0 "
+                        "| | | | | |")
             continue
         j = int(np.argmin(np.abs(np.asarray(t.table["yaw"]))))
         g = t.group
@@ -238,7 +257,70 @@ def _wear(data: SweepData, report: Path) -> list[str]:
         w.writerow(["amplitude_mm"] + list(conic))
         for k, a in enumerate(amps):
             w.writerow([f"{a * 1e3:.3f}"] + [c[1][k] for c in conic.values()])
+    if notes:
+        rows += ["", "Δr holes and limits (never integrated across):", ""] + notes
     return rows + [""] + [f"![{f}]({f})" for f in figs] + [""]
+
+
+def _sweep_axis(data: SweepData, ids: list[str]) -> tuple[str, list[float], list[str] | None]:
+    """The member parameter to plot the indices against: the one numeric parameter that varies
+    (its values), else the member IDs as categories."""
+    params = {e["id"]: (e.get("params") or {}) for e in data.index}
+    base = [i.split("/")[0] for i in ids]
+    keys = sorted({k for i in base for k in params.get(i, {})})
+    varying = [k for k in keys if len({json.dumps(params[i].get(k)) for i in base}) > 1]
+    if len(varying) == 1 and all(isinstance(params[i].get(varying[0]), int | float)
+                                 for i in base):
+        return varying[0], [float(params[i][varying[0]]) for i in base], None
+    return "member", list(range(len(ids))), ids
+
+
+def _sweep_indices(data: SweepData, report: Path) -> list[str]:
+    """One CSV (``indices.csv``) and one plot per index against the member's parameter."""
+    from lutmpi.reports import geometry_plots as gp
+    from lutmpi.reports import indices as ix
+
+    rows, ids = [], []
+    for t in data.tables:
+        try:
+            y, dr = con.dr_from_table(t.table, t.method)
+        except ValueError:
+            continue
+        found = ix.indices(y, dr)
+        rows.append(found.row())
+        ids.append(t.id)
+    if not rows:
+        return []
+    key, xs, labels = _sweep_axis(data, ids)
+    with open(report / "indices.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["member", key] + list(rows[0]))
+        for i, x, r in zip(ids, xs, rows, strict=True):
+            w.writerow([i, x] + [f"{v:.6g}" for v in r.values()])
+    groups = {"tan_gamma_e": ("equivalent conicity tan γe [-]", "tan γe (EN 15302 Annex B)"),
+              "rolling_radii_coeff": ("rolling-radii coefficient κ [-]", "rolling-radii "
+                                      "coefficient (LSQ slope of Δr / 2)"),
+              "nonlinearity_parameter": ("NP [1/mm]", "Polach's nonlinearity parameter")}
+    figs = []
+    for prefix, (ylabel, title) in groups.items():
+        cols = [c for c in rows[0] if c.startswith(prefix)]
+        series = {c.removeprefix(prefix + "_") or prefix: [r[c] for r in rows] for c in cols}
+        figs.append(gp.index_vs_parameter(xs, series, key, ylabel, title,
+                                          report / f"index_{prefix}.png", labels).name)
+    return ["## Geometry indices per member", "", "`indices.csv`: one row per member; "
+            "definitions and sources in `lutmpi/reports/indices.py`.", ""] + [
+        f"![{f}]({f})" for f in figs] + [""]
+
+
+def _status_line(index: list[dict[str, Any]]) -> str:
+    """``12 members: 9 ok, 2 partial (failed poses), 1 not selected``."""
+    counts: dict[str, int] = {}
+    for e in index:
+        counts[e.get("status", "?")] = counts.get(e.get("status", "?"), 0) + 1
+    label = {"partial": "partial (some poses failed)"}
+    order = sorted(counts.items(), key=lambda kv: kv[0] != "ok")
+    parts = [f"{n} {label.get(k, k)}" for k, n in order]
+    return f"{len(index)} members: " + ", ".join(parts) + "."
 
 
 def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "reference",
@@ -265,13 +347,12 @@ def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "r
     data = load_sweep(outdir)
     report = Path(report_dir)
     report.mkdir(parents=True, exist_ok=True)
-    ok = [e for e in data.index if e.get("status") == "ok"]
-    lines = [f"# Sweep report: {data.outdir}", "",
-             f"{len(data.index)} members, {len(ok)} ok, {len(data.index) - len(ok)} failed.", ""]
-    bad = [e for e in data.index if e.get("status") != "ok"] + [
-        {"id": i, "message": m} for i, m in data.unreadable]
-    if bad:
-        lines += ["Failed members:", ""] + [f"- `{e['id']}`: {e.get('message', '')}" for e in bad]
+    lines = [f"# Sweep report: {data.outdir}", "", _status_line(data.index), ""]
+    listed = [e for e in data.index if e.get("status") != "ok"] + [
+        {"id": i, "status": "unreadable", "message": m} for i, m in data.unreadable]
+    if listed:
+        lines += ["Members not fully ok:", ""] + [
+            f"- `{e['id']}` ({e.get('status', '?')}): {e.get('message', '')}" for e in listed]
         lines.append("")
     has_mesh_levels = any(t.method != "reference" for t in data.tables)
     if has_mesh_levels and (reference == "finest" or any(t.method == "reference"
@@ -280,6 +361,7 @@ def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "r
         lines += section
     if wear or (wear is None and _is_wear(data)):
         lines += _wear(data, report)
+        lines += _sweep_indices(data, report)
     path = report / "report.md"
     path.write_text("\n".join(lines) + "\n")
     log.info("report written to %s", path)

@@ -1,40 +1,37 @@
 """The one module that reads and writes table files (HDF5), collectively with MPI or serially.
 
-Writing strategy
-----------------
+Writing strategy (used by :class:`lutmpi.parallel.writer.TableWriter`)
+----------------------------------------------------------------------
+* Two strategies behind one interface: :class:`SerialH5` (one rank, a plain file) and
+  :class:`MpioH5` (N ranks, ``driver="mpio"``, collective transfers).
 * All ranks create every dataset of :mod:`lutmpi.table.schema` with its global shape (contiguous
-  layout, fill value = "not computed"), attach the ``/y`` and ``/yaw`` dimension scales and set the
-  same attributes: HDF5 metadata operations are collective.
+  layout, storage allocated and filled with "not computed" at creation, so a full disk shows up
+  before any compute, not in the final write), attach the ``/y`` and ``/yaw`` dimension scales and
+  set every root attribute, the run ones with placeholders of their final size: HDF5 metadata
+  operations are collective, and finishing only rewrites them in place.
 * Each rank owns a block of grid rows (:func:`lutmpi.parallel.partition.block_range`) and writes it
   with **one collective low-level write per dataset**; a rank owning no rows still makes the call,
   with an empty selection (h5py's high-level ``__setitem__`` may skip the call, hence ``dset.id``).
-* One rank -> a plain serial file, no ``mpio`` driver.
-* The build writes ``<out>.partial`` (fixed name, so ``--resume`` can find it), with a per-point
-  ``/done`` mask. During compute each rank checkpoints its own points with *independent* writes of
-  raw data only (no rank waits for another; the metadata, written when the file was created, never
-  changes, so a killed job leaves a readable file). At the end every rank writes its row block
-  collectively; ``/done`` is removed, ``complete`` set last, and rank 0 renames the file.
+* Computed points are not checkpointed into this file: they go to the journal
+  (:mod:`lutmpi.table.journal`) the moment they are computed.
 """
 
 from __future__ import annotations
 
 import json
 import os
-import shutil
-import uuid
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import h5py
 import numpy as np
-from h5py import h5fd, h5p, h5s
+from h5py import h5d, h5fd, h5p, h5s
 
 from lutmpi.errors import TableError
 from lutmpi.table.grid import Grid
 from lutmpi.table.schema import FIELDS, SCHEMA_VERSION, Field, dataset_attributes
 
-DONE = "done"
 # bytes per point per method of a full table, plus slack; used for the free-space check
 _BYTES_PER_POINT = 8 * 200
 
@@ -50,60 +47,38 @@ def estimate_bytes(n_points: int, n_methods: int) -> int:
     return n_points * max(n_methods, 1) * _BYTES_PER_POINT + (1 << 20)
 
 
-def preflight(out: Path, *, force: bool, resume: bool, need_bytes: int) -> bool:
-    """Decide, before any compute, whether the build may go ahead (run on rank 0 only).
+class SerialH5:
+    """One rank: a plain HDF5 file, independent transfers."""
 
-    Returns
-    -------
-    bool
-        True when an existing partial file is to be resumed.
+    parallel = False
 
-    Raises
-    ------
-    TableError
-        Output exists without ``force``; a partial build exists without ``resume``/``force``;
-        the directory is missing, not a directory, not writable, or short of space.
-    """
-    partial = partial_path(out)
-    if out.exists() and not force:
-        raise TableError(f"{out} exists; pass --force to overwrite it")
-    if partial.exists() and not (resume or force):
-        raise TableError(f"an unfinished build {partial} exists; pass --resume to continue it "
-                         "or --force to start over")
-    _check_directory(out.parent if str(out.parent) else Path("."), need_bytes)
-    return bool(resume and partial.exists())
+    def open(self, path: Path, mode: str) -> h5py.File:
+        return h5py.File(path, mode)
+
+    def xfer(self) -> Any:
+        return h5p.create(h5p.DATASET_XFER)
 
 
-def _check_directory(directory: Path, need_bytes: int) -> None:
-    if not directory.is_dir():
-        raise TableError(f"output directory {directory} does not exist or is not a directory")
-    probe = directory / f".lutmpi-probe-{uuid.uuid4().hex}"
-    try:
-        with open(probe, "wb") as fh:
-            fh.write(b"\0" * 4096)
-            fh.flush()
-            os.fsync(fh.fileno())
-    except OSError as exc:
-        raise TableError(f"output directory {directory} is not writable: {exc}") from exc
-    finally:
-        probe.unlink(missing_ok=True)
-    free = shutil.disk_usage(directory).free
-    if free < need_bytes:
-        raise TableError(f"output directory {directory} has {free / 1e6:.1f} MB free, the table "
-                         f"needs about {need_bytes / 1e6:.1f} MB")
+class MpioH5(SerialH5):
+    """N ranks: one file opened with the ``mpio`` driver, collective transfers."""
 
+    parallel = True
 
-def _open(path: Path, mode: str, comm: Any) -> h5py.File:
-    if comm is not None and comm.size > 1:
-        return h5py.File(path, mode, driver="mpio", comm=comm)
-    return h5py.File(path, mode)
+    def __init__(self, comm: Any):
+        self.comm = comm
 
+    def open(self, path: Path, mode: str) -> h5py.File:
+        return h5py.File(path, mode, driver="mpio", comm=self.comm)
 
-def _dxpl(parallel: bool) -> Any:
-    dxpl = h5p.create(h5p.DATASET_XFER)
-    if parallel:
+    def xfer(self) -> Any:
+        dxpl = h5p.create(h5p.DATASET_XFER)
         dxpl.set_dxpl_mpio(h5fd.MPIO_COLLECTIVE)
-    return dxpl
+        return dxpl
+
+
+def strategy(comm: Any) -> SerialH5:
+    """The strategy for ``comm``: collective for more than one rank, serial otherwise."""
+    return MpioH5(comm) if comm is not None and comm.size > 1 else SerialH5()
 
 
 def write_rows(dset: h5py.Dataset, start: int, block: np.ndarray, dxpl: Any) -> None:
@@ -124,10 +99,11 @@ def write_rows(dset: h5py.Dataset, start: int, block: np.ndarray, dxpl: Any) -> 
     dset.id.write(mspace, fspace, arr, dxpl=dxpl)
 
 
-def create_partial(path: Path, comm: Any, grid: Grid, methods: Sequence[str],
+def create_partial(path: Path, io: SerialH5, rank: int, grid: Grid, methods: Sequence[str],
                    fields: Sequence[Field], attrs: dict[str, Any]) -> None:
-    """Create the partial file with every dataset at its global shape (collective)."""
-    with _open(path, "w", comm) as f:
+    """Create the partial file with every dataset at its global shape, storage allocated and
+    filled, and every root attribute at its final size (collective with :class:`MpioH5`)."""
+    with io.open(path, "w") as f:
         for key, value in attrs.items():
             f.attrs[key] = value
         f.attrs["complete"] = False
@@ -135,102 +111,36 @@ def create_partial(path: Path, comm: Any, grid: Grid, methods: Sequence[str],
                                           ("yaw", grid.yaw, "rad", "yaw angle theta_z")):
             d = f.create_dataset(name, shape=values.shape, dtype="f8")
             d.attrs["units"], d.attrs["description"] = units, desc
-            write_rows(d, 0, values if _rank(comm) == 0 else values[:0], _dxpl(_par(comm)))
+            write_rows(d, 0, values if rank == 0 else values[:0], io.xfer())
             d.make_scale(name)
-        done = f.create_dataset(DONE, shape=grid.shape, dtype="u1", fillvalue=0)
-        done.attrs["description"] = "1 where the point is computed (removed when complete)"
         for method in methods:
             g = f.create_group(method)
             g.attrs["method"] = method
             for fld in fields:
+                dcpl = h5p.create(h5p.DATASET_CREATE)
+                dcpl.set_alloc_time(h5d.ALLOC_TIME_EARLY)
                 d = g.create_dataset(fld.name, shape=grid.shape + fld.suffix, dtype=fld.dtype,
-                                     fillvalue=fld.fill)
+                                     fillvalue=fld.fill, dcpl=dcpl, fill_time="alloc")
                 for key, value in dataset_attributes(fld).items():
                     d.attrs[key] = value
                 d.dims[0].attach_scale(f["y"])
                 d.dims[1].attach_scale(f["yaw"])
 
 
-def _rank(comm: Any) -> int:
-    return 0 if comm is None else comm.rank
-
-
-def _par(comm: Any) -> bool:
-    return comm is not None and comm.size > 1
-
-
-def open_rw(path: Path, comm: Any) -> h5py.File:
-    """Open a partial file for the build (collective with several ranks)."""
-    return _open(path, "r+", comm)
-
-
-def write_points(f: h5py.File, grid: Grid, points: np.ndarray,
-                 records: dict[str, dict[str, np.ndarray]]) -> None:
-    """Checkpoint: write computed points and their ``/done`` flags, *independently* (no other
-    rank takes part). Only raw data of datasets allocated at creation is written, so the file's
-    metadata never changes and a killed job leaves it readable."""
-    iy, iyaw = grid.ij(np.asarray(points))
-    for method in sorted(records):
-        group = f[method]
-        for name in sorted(records[method]):
-            dset, values = group[name], records[method][name]
-            for i in range(len(points)):
-                dset[iy[i], iyaw[i]] = values[i]
-    for i in range(len(points)):
-        f[DONE][iy[i], iyaw[i]] = 1
-
-
-def write_blocks(f: h5py.File, comm: Any, row_start: int,
-                 blocks: dict[str, dict[str, np.ndarray]], done_rows: np.ndarray) -> None:
-    """Write this rank's row block of every dataset and of ``/done`` (collective)."""
-    dxpl = _dxpl(_par(comm))
+def write_blocks(f: h5py.File, io: SerialH5, row_start: int,
+                 blocks: dict[str, dict[str, np.ndarray]]) -> None:
+    """Write this rank's row block of every dataset (collective with :class:`MpioH5`)."""
+    dxpl = io.xfer()
     for method in sorted(blocks):
         for name in sorted(blocks[method]):
             write_rows(f[method][name], row_start, blocks[method][name], dxpl)
-    write_rows(f[DONE], row_start, done_rows, dxpl)
-
-
-def check_partial(path: Path, methods: Sequence[str], fields: Sequence[Field],
-                  config_toml: str) -> np.ndarray:
-    """Check an unfinished build can be resumed by this build; return its ``/done`` mask.
-
-    Raises
-    ------
-    TableError
-        The file is unreadable or was made from another configuration / method / quantity set.
-    """
-    try:
-        f = h5py.File(path, "r")
-    except OSError as exc:
-        raise TableError(f"cannot read the unfinished build {path} ({exc}); pass --force to start "
-                         "over") from exc
-    with f:
-        if f.attrs.get("config_toml") != config_toml:
-            raise TableError(f"{path} was started from a different configuration; pass --force "
-                             "to start over")
-        stored = {m: set(f[m]) for m in f if isinstance(f[m], h5py.Group)}
-        wanted = {m: {fld.name for fld in fields} for m in methods}
-        if stored != wanted or DONE not in f:
-            raise TableError(f"{path} holds methods/quantities {sorted(stored)} that differ from "
-                             f"this build's {sorted(wanted)}; pass --force to start over")
-        return f[DONE][...].astype(bool)
-
-
-def read_rows(path: Path, row_start: int, row_count: int, methods: Sequence[str],
-              fields: Sequence[Field]) -> dict[str, dict[str, np.ndarray]]:
-    """This rank's row block of every dataset of a partial file (serial read, every rank)."""
-    rows = slice(row_start, row_start + row_count)
-    with h5py.File(path, "r") as f:
-        return {m: {fld.name: f[m][fld.name][rows] for fld in fields} for m in methods}
 
 
 def finalize(f: h5py.File, attrs: dict[str, Any]) -> None:
-    """Drop ``/done``, set the run attributes and, last, ``complete = True``, then close
-    (collective)."""
-    del f[DONE]
+    """Rewrite the run attributes in place and, last, set ``complete = True``; close."""
     for key, value in attrs.items():
-        f.attrs[key] = value
-    f.attrs["complete"] = True
+        f.attrs.modify(key, value)
+    f.attrs.modify("complete", True)
     f.close()
 
 
@@ -255,25 +165,66 @@ def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
         f = h5py.File(path, "r")
     except OSError as exc:
         raise TableError(f"{path}: not a readable HDF5 file ({exc})") from exc
-    with f:
-        attrs = {k: _plain(v) for k, v in f.attrs.items()}
-        version = attrs.get("schema_version")
-        if version is None:
-            raise TableError(f"{path}: not a lutmpi table (no schema_version attribute)")
-        if int(version) > SCHEMA_VERSION:
-            raise TableError(f"{path}: schema version {version} is newer than this lutmpi "
-                             f"understands ({SCHEMA_VERSION}); upgrade lutmpi to read it")
-        if not attrs.get("complete", False):
-            raise TableError(f"{path}: the table is incomplete (its build did not finish)")
-        methods, meta = {}, {}
-        for name in json.loads(attrs["methods"]):
-            g = f[name]
-            order = [fld.name for fld in FIELDS if fld.name in g]
-            methods[name] = {k: g[k][...] for k in order}
-            meta[name] = {k: {a: _plain(v) for a, v in g[k].attrs.items()
-                              if a not in ("DIMENSION_LIST",)} for k in g}
-        return {"attrs": attrs, "y": f["y"][...], "yaw": f["yaw"][...], "methods": methods,
-                "meta": meta}
+    try:
+        with f:
+            return _read_open_table(f, path)
+    except (KeyError, ValueError, TypeError, OSError, RuntimeError) as exc:
+        # a damaged or doctored file: name the file and what is missing or wrong
+        raise TableError(f"{path}: damaged table ({type(exc).__name__}: {exc})") from exc
+
+
+def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
+    attrs = {k: _plain(v) for k, v in f.attrs.items()}
+    version = attrs.get("schema_version")
+    if version is None:
+        raise TableError(f"{path}: not a lutmpi table (no schema_version attribute)")
+    if int(version) > SCHEMA_VERSION:
+        raise TableError(f"{path}: schema version {version} is newer than this lutmpi "
+                         f"understands ({SCHEMA_VERSION}); upgrade lutmpi to read it")
+    if not attrs.get("complete", False):
+        raise TableError(f"{path}: the table is incomplete (its build did not finish)")
+    for key in ("methods", "config_toml"):
+        if key not in attrs:
+            raise TableError(f"{path}: damaged table: root attribute {key!r} is missing")
+    try:
+        names = json.loads(attrs["methods"])
+    except (TypeError, ValueError) as exc:
+        raise TableError(f"{path}: damaged table: root attribute 'methods' is not a JSON list "
+                         f"({exc})") from exc
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise TableError(f"{path}: damaged table: root attribute 'methods' = {names!r} is not "
+                         "a non-empty list of names")
+    y, yaw = (_dataset(f, path, k, 1) for k in ("y", "yaw"))
+    methods, meta = {}, {}
+    for name in names:
+        if not isinstance(f.get(name), h5py.Group):
+            raise TableError(f"{path}: damaged table: group /{name} (method {name}) is missing")
+        g = f[name]
+        if "status" not in g:
+            raise TableError(f"{path}: damaged table: dataset /{name}/status is missing")
+        order = [fld.name for fld in FIELDS if fld.name in g]
+        methods[name] = {}
+        for k in order:
+            arr = _dataset(g, path, k, None)
+            if arr.shape[:2] != (y.size, yaw.size):
+                raise TableError(f"{path}: damaged table: /{name}/{k} has shape {arr.shape}, "
+                                 f"expected ({y.size}, {yaw.size}, ...) from /y and /yaw")
+            methods[name][k] = arr
+        meta[name] = {k: {a: _plain(v) for a, v in g[k].attrs.items()
+                          if a not in ("DIMENSION_LIST",)} for k in order}
+    return {"attrs": attrs, "y": y, "yaw": yaw, "methods": methods, "meta": meta}
+
+
+def _dataset(group: h5py.Group, path: Path, name: str, ndim: int | None) -> np.ndarray:
+    obj = group.get(name)
+    where = f"{group.name.rstrip('/')}/{name}"
+    if not isinstance(obj, h5py.Dataset):
+        raise TableError(f"{path}: damaged table: dataset {where} is missing")
+    arr = obj[...]
+    if ndim is not None and (arr.ndim != ndim or arr.size == 0):
+        raise TableError(f"{path}: damaged table: {where} has shape {arr.shape}, expected a "
+                         "non-empty vector")
+    return arr
 
 
 def _plain(value: Any) -> Any:
@@ -285,11 +236,11 @@ def _plain(value: Any) -> Any:
 
 
 # -- contact jumps (issue 11): /<method>/jumps, written after the grid is complete ------------
-def write_jumps(f: h5py.File, comm: Any, method: str, arrays: dict[str, np.ndarray],
+def write_jumps(f: h5py.File, io: SerialH5, rank: int, method: str, arrays: dict[str, np.ndarray],
                 limits: dict[str, np.ndarray], knot_y: np.ndarray, knots: dict[str, np.ndarray],
                 attrs: dict[str, Any]) -> None:
-    """Create ``/<method>/jumps`` (collective: every rank holds the same arrays) and write it from
-    rank 0 (the other ranks take part with empty selections)."""
+    """Create ``/<method>/jumps`` (collective with :class:`MpioH5`: every rank holds the same
+    arrays) and write it from rank 0 (the other ranks take part with empty selections)."""
     from lutmpi.table.schema import (
         FIELDS_BY_NAME,
         JUMP_FIELDS_BY_NAME,
@@ -305,7 +256,7 @@ def write_jumps(f: h5py.File, comm: Any, method: str, arrays: dict[str, np.ndarr
     g = f[method].create_group(JUMPS_GROUP)
     for key, value in attrs.items():
         g.attrs[key] = value
-    dxpl = _dxpl(_par(comm))
+    dxpl = io.xfer()
     items = [(g, name, arr, jump_attributes(JUMP_FIELDS_BY_NAME[name]))
              for name, arr in arrays.items()]
     lg = g.create_group(LIMITS_GROUP)
@@ -320,7 +271,7 @@ def write_jumps(f: h5py.File, comm: Any, method: str, arrays: dict[str, np.ndarr
         for key, value in meta.items():
             d.attrs[key] = value
         if arr.size:
-            write_rows(d, 0, arr if _rank(comm) == 0 else arr[:0], dxpl)
+            write_rows(d, 0, arr if rank == 0 else arr[:0], dxpl)
 
 
 def write_root_attributes(f: h5py.File, attrs: dict[str, Any]) -> None:

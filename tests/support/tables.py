@@ -71,11 +71,22 @@ def env(**extra: str) -> dict[str, str]:
     return e
 
 
+def build_command(config: Path, out: Path, ranks: int, *args: str) -> list[str]:
+    """``[mpirun -n ranks] lutmpi build CONFIG -o OUT --solver HOOK ARGS`` (1 = no mpirun)."""
+    cmd = [LUTMPI, "build", str(config), "-o", str(out), "--solver", HOOK, *args]
+    return ["mpirun", "-n", str(ranks), *cmd] if ranks > 1 else cmd
+
+
+def start_build(config: Path, out: Path, ranks: int, *args: str,
+                **extra_env: str) -> subprocess.Popen:
+    """:func:`build` in the background (text pipes for stdout and stderr)."""
+    return subprocess.Popen(build_command(config, out, ranks, *args), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env(**extra_env),
+                            cwd=str(REPO_ROOT), stdin=subprocess.DEVNULL)
+
+
 def build(config: Path, out: Path, ranks: int, *args: str, timeout: float = 60,
           **extra_env: str) -> subprocess.CompletedProcess:
     """Run ``[mpirun -n ranks] lutmpi build CONFIG -o OUT --solver HOOK ARGS`` (1 = no mpirun)."""
-    cmd = [LUTMPI, "build", str(config), "-o", str(out), "--solver", HOOK, *args]
-    if ranks > 1:
-        cmd = ["mpirun", "-n", str(ranks), *cmd]
-    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
-                          env=env(**extra_env), cwd=str(REPO_ROOT))
+    return subprocess.run(build_command(config, out, ranks, *args), capture_output=True,
+                          text=True, timeout=timeout, env=env(**extra_env), cwd=str(REPO_ROOT))

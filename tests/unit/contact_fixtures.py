@@ -48,7 +48,7 @@ def crown_gauge(radius: float, gauge_depth: float, u_crown: float = D_TAPE) -> f
 
 
 def synthetic_scene(wheel: Profile, rail: Profile, *, spacing=None, gauge_depth=1e-3,
-                    allowed=1e-5, compiled=True, **eq) -> Scene:
+                    allowed=1e-5, **eq) -> Scene:
     """Scene with the crown centred at u = 0.75 m, inclination 0, no flange stiffness factor."""
     radius = _crown_radius(rail)
     kw = {} if spacing is None else {"spacing": spacing}
@@ -56,7 +56,7 @@ def synthetic_scene(wheel: Profile, rail: Profile, *, spacing=None, gauge_depth=
         wheel, rail, r0=R0, tape_half_distance=D_TAPE, inclination=0.0,
         gauge=crown_gauge(radius, gauge_depth), gauge_depth=gauge_depth,
         equilibrium=EquilibriumOptions(allowed_indentation=allowed, **eq),
-        settings=SolveSettings(flange=False, compiled=compiled), **kw)
+        settings=SolveSettings(flange=False), **kw)
 
 
 def _crown_radius(rail: Profile) -> float:
@@ -69,7 +69,7 @@ def _crown_radius(rail: Profile) -> float:
 @cache
 def standard_scene(inclination: float = INC_20, spacing: tuple | None = None,
                    allowed: float = 1e-5, kc0: float = 1e10, k_el: float = 1e7,
-                   solver: str = "newton", compiled: bool = True,
+                   solver: str = "newton",
                    extrapolate: bool = True) -> Scene:
     """S1002 on UIC60 (generated), gauge 1435, r0 0.46, d 0.75; cached per argument set."""
     kw = {} if spacing is None else {"spacing": spacing}
@@ -77,7 +77,7 @@ def standard_scene(inclination: float = INC_20, spacing: tuple | None = None,
         _s1002(), _uic60(), inclination=inclination,
         equilibrium=EquilibriumOptions(k_el=k_el, k_rot=k_el, kc0=kc0, allowed_indentation=allowed,
                                        solver=solver, extrapolate=extrapolate),
-        settings=SolveSettings(compiled=compiled), **kw)
+        settings=SolveSettings(), **kw)
 
 
 @cache

@@ -97,12 +97,13 @@ def test_dr_from_table_takes_left_minus_right_at_zero_yaw():
     rr[:, :, 0, 0] = 0.46 + 0.1 * y[:, None] + 1.0 * yaw   # left; yaw columns differ
     rr[:, :, 1, 0] = 0.46 - 0.1 * y[:, None]
     status = np.zeros((5, 3), np.int8)
-    status[0, 1] = 4                                          # a failed point is left out
+    status[0, 1] = 4                                          # a failed point is a hole (NaN)
     table = {"y": y, "yaw": yaw, "methods": {"load_centre": {"rolling_radius": rr,
                                                              "status": status}}}
     yy, dr = dr_from_table(table)
-    np.testing.assert_allclose(yy, y[1:])
-    np.testing.assert_allclose(dr, 0.2 * y[1:], atol=1e-15)
+    np.testing.assert_allclose(yy, y)
+    assert np.isnan(dr[0])
+    np.testing.assert_allclose(dr[1:], 0.2 * y[1:], atol=1e-15)
     table["yaw"] = yaw + 0.005
     with pytest.raises(ValueError, match="yaw = 0"):
         dr_from_table(table)

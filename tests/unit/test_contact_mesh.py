@@ -16,7 +16,9 @@ import pytest
 from contact_fixtures import INC_20, INC_40, MESH_METHODS, MM, standard_scene
 
 from lutmpi.contact.locus import local_minima
+from lutmpi.contact.methods import get_method
 from lutmpi.contact.solve import solve_pose
+from tests.support.numpy_methods import numpy_twin, wheel_contacts
 
 Y_GRID = np.linspace(-9.0, 9.0, 7) * MM
 YAW_GRID = np.linspace(-0.12, 0.12, 5)
@@ -72,10 +74,11 @@ POSES = ((0.0, 0.0), (3 * MM, 0.05), (6.5 * MM, -0.08), (9 * MM, 0.12), (-9 * MM
 def test_numba_equals_numpy_solve(method):
     """Full pose solves with the numba kernel and with the numpy implementation agree to 1e-12."""
     tol = 1e-12
-    fast, ref = standard_scene(), standard_scene(compiled=False)
+    sc = standard_scene()
+    twin = numpy_twin(get_method(method))
     worst = 0.0
     for y, yaw in POSES:
-        a, b = solve_pose(fast, y, yaw, method), solve_pose(ref, y, yaw, method)
+        a, b = solve_pose(sc, y, yaw, method), twin.solve(sc, sc.locus.solve(y, yaw))
         assert a.status == b.status
         worst = max(worst, abs(a.z_g - b.z_g), abs(a.roll - b.roll))
         assert a.z_g == pytest.approx(b.z_g, abs=tol)
@@ -90,19 +93,18 @@ def test_numba_equals_numpy_solve(method):
 
 def _kernel_pair(method, y, yaw):
     """Both implementations of one wheel's contact search at the same pose and window."""
-    from lutmpi.contact.methods import wheel_contacts, wheel_contacts_compiled
-    from lutmpi.contact.solve import _windows
+    from lutmpi.contact.mesh_pose import windows
     from lutmpi.geometry.pose import wheelset_rotation
 
     sc = standard_scene()
     rig = sc.locus.solve(y, yaw)
-    wins = _windows(sc, rig, method, 2e-4, False)
+    wins = windows(sc, rig, get_method(method), 2e-4, False)
     centre = np.array([0.0, y, rig.z_g - 2e-5])  # 20 um into the rails
     R = wheelset_rotation(yaw, rig.roll)
     out = []
     for win in wins.values():
         a = wheel_contacts(method, win, sc.wheel_mesh, sc.rail_mesh, centre, R, 2)
-        b = wheel_contacts_compiled(method, win, sc.wheel_mesh, sc.rail_mesh, centre, R, 2)
+        b = get_method(method).contacts(win, sc.wheel_mesh, sc.rail_mesh, centre, R, 2)
         out.append((a, b))
     return out
 

@@ -10,6 +10,7 @@ import pytest
 from lutmpi.contact.stiffness import hertz_ellipse
 from lutmpi.dynamics.contact_provider import ConedWheelProvider
 from lutmpi.dynamics.critical import (
+    jacobian_critical_speed,
     linear_critical_speed,
     linear_parameters,
     max_real_part,
@@ -98,18 +99,47 @@ def test_linear_free_wheelset_without_gravitational_stiffness_is_always_unstable
 
 @pytest.mark.slow
 def test_linear_and_nonlinear_agree_on_the_critical_speed():
-    """1:20 cone: the nonlinear model is stable 10 % below the linear critical speed and hunts
-    10 % above it. Both with linear creep: the Shen-Hedrick-Elkins law is not linear even at small
-    creepage (its slope is 1 - 2 beta/3), which alone moves this weakly damped boundary."""
+    """1:20 cone, linear creep: the nonlinear model decays 10 % below the linear critical speed
+    and grows 10 % above it, at the rates the linearisation predicts.
+
+    Both with linear creep: the Shen-Hedrick-Elkins law is not linear even at small creepage (its
+    slope is 1 - 2 beta/3), which alone moves this weakly damped boundary.
+
+    Why the tolerances matter (issue 16): the free wheelset is barely damped near V_c -- the
+    eigenvalue's real part is only -3.3e-5 1/s at 0.9 V_c and +3.8e-5 1/s at 1.1 V_c, so over
+    40 s the amplitude changes by 0.15 %. The lateral creep damping (2 f22 / (m V) ~ 4000 1/s)
+    kills the initial lateral velocity within ms and leaves a hunting mode of y0 ~ vy0 / 4000:
+    ~1 um for vy0 = 5 mm/s, ~25 um for 0.1 m/s. This test used to run with solve_ivp's default
+    atol (1e-8 m on y, 1 % of a 1 um amplitude per step): the integrator's error then damps the
+    motion at ~1e-4 1/s, more than the physical growth, and the run at 1.1 V_c came out at
+    -1.9e-4 1/s ("stable"). The physics was right and the claim was right; the measurement was
+    not. Tolerances now scale with the amplitude (as ``nonlinear_critical_speed`` does), and the
+    simulated growth rate is compared with the eigenvalue of the model's own Jacobian.
+    """
+    from lutmpi.dynamics.critical import rhs_jacobian
+
     prov = ConedWheelProvider(R0, 0.05, B)
     p = P.with_(saturation="none")
     lp = linear_parameters(prov, p)
     vc = linear_critical_speed(lp, p).speed
-    assert 1.0 < vc < 50.0
-    kw = dict(vy0=0.005, events=False, rtol=1e-9, dt_out=0.02, max_step=0.05)
-    lo = simulate(prov, p, 0.9 * vc, 40.0, **kw)
-    hi = simulate(prov, p, 1.1 * vc, 40.0, **kw)
-    assert lo.summary.growth_rate < 0 < hi.summary.growth_rate
+    # Wickens (1965) / Garg & Dukkipati eq. for a free wheelset with gravitational stiffness:
+    # the classical model's V_c is a few m/s for a 1:20 cone; the full Jacobian (spin dof,
+    # gyroscopic terms) must agree with it (measured 0.8 % apart; 2 % allowed)
+    vj, _ = jacobian_critical_speed(prov, p, amplitude=3.5e-4)
+    assert vj == pytest.approx(vc, rel=0.02)
+    # amplitude-scaled tolerances: y ~ 25 um, so atol 1e-11 m is 4e-7 of it
+    atol = np.array([1e-11, 1e-11, 1e-10, 1e-10, 1e-8])
+    kw = dict(vy0=0.1, events=False, rtol=1e-9, atol=atol, dt_out=0.02, max_step=0.05)
+    for factor in (0.9, 1.1):
+        v = factor * vc
+        ev = np.linalg.eigvals(rhs_jacobian(prov, p, v))
+        sigma = float(np.max(ev.real))       # linear growth rate of the hunting mode, 1/s
+        run = simulate(prov, p, v, 40.0, **kw)
+        rate = run.summary.growth_rate
+        assert np.sign(rate) == np.sign(sigma) == np.sign(factor - 1.0)
+        # the nonlinear run at 25 um is in the linear regime: its envelope grows at the
+        # eigenvalue's rate (measured within 3 %; 10 % allowed)
+        assert rate == pytest.approx(sigma, rel=0.10)
 
 
 def test_hertz_fast_matches_hertz_ellipse():

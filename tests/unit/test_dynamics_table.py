@@ -103,7 +103,8 @@ def test_simulate_command_on_a_real_table(small_table, tmp_path):
                "-o", str(out)])
     assert rc == 0
     with h5py.File(out, "r") as f:
-        assert f.attrs["success"] and f.attrs["kind"] in ("stable", "hunting")
+        # 1 s holds few peaks: "undetermined" is an honest answer
+        assert f.attrs["success"] and f.attrs["kind"] in ("stable", "hunting", "undetermined")
         for name in ("t", "y", "yaw", "roll", "normal_force", "lateral_tangential_force"):
             assert np.all(np.isfinite(f[name][()])), name
             assert f[name].attrs["units"] in ("s", "m", "rad", "N")

@@ -1,4 +1,7 @@
-"""Intersecting volume (eq. 2) and the three contact-point methods of §4.2.
+"""Test oracle: the vectorized numpy twin of the compiled contact methods of
+:mod:`lutmpi.contact.methods` (same algorithm, written for reading; the tests compare the two).
+
+Intersecting volume (eq. 2) and the three contact-point methods of §4.2.
 
 Conventions: ``N_w`` is the wheel's outward unit normal (out of the wheel, into the rail);
 ``V_ij = P_j - P_i`` joins wheel node ``i`` to rail node ``j``. A wheel node is in the
@@ -30,20 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lutmpi.contact.mesh import RailMesh, WheelMesh, Window
-
-
-@dataclass
-class MeshContact:
-    """One contact of one wheel found on the meshes (track frame, SI)."""
-
-    wheel_point: np.ndarray
-    rail_point: np.ndarray
-    n_wheel: np.ndarray  # wheel outward normal at the contact (unit)
-    indentation: float
-    s: float  # wheel profile coordinate of the wheel point
-    u_rail: float  # side-local lateral coordinate of the rail point
-    n_wheel_nodes: int
-    n_rail_nodes: int
+from lutmpi.contact.methods.base import MeshContact, MeshMethod
 
 
 @dataclass
@@ -264,59 +254,15 @@ def wheel_contacts(
     return out[:max_contacts]
 
 
-def wheel_contacts_compiled(
-    method: str,
-    win: Window,
-    wmesh: WheelMesh,
-    rmesh: RailMesh,
-    centre: np.ndarray,
-    R: np.ndarray,
-    max_contacts: int = 2,
-) -> list[MeshContact]:
-    """Same as :func:`wheel_contacts`, with the node loops compiled (numba)."""
-    from lutmpi.contact.kernels import METHOD_IDS, contacts_side
+class NumpyMethod(MeshMethod):
+    """A registered mesh method with its contact stage replaced by the numpy twin (the oracle of
+    whole pose solves)."""
 
-    get_method(method)
-    w = wmesh.wheel
-    n, WP, RP, NW, C, S, NWn, NRn = contacts_side(
-        METHOD_IDS[method],
-        win.side,
-        win.body_pts,
-        win.body_nrm,
-        win.k,
-        centre,
-        R,
-        rmesh.u,
-        rmesh.z,
-        rmesh.nu,
-        rmesh.nz,
-        rmesh.h_x,
-        win.rail_pts,
-        win.rail_nrm,
-        wmesh.s,
-        wmesh.r,
-        wmesh.dr,
-        w.d,
-        wmesh.dphi,
-        wmesh.tab_s,
-        wmesh.tab_dr,
-        w.s_min,
-        w.s_max,
-        3,
-    )
-    out = [
-        MeshContact(
-            wheel_point=WP[g].copy(),
-            rail_point=RP[g].copy(),
-            n_wheel=NW[g].copy(),
-            indentation=float(C[g]),
-            s=float(S[g]),
-            u_rail=float(win.side * RP[g, 1]),
-            n_wheel_nodes=int(NWn[g]),
-            n_rail_nodes=int(NRn[g]),
-        )
-        for g in range(n)
-        if C[g] > 0.0
-    ]
-    out.sort(key=lambda c: -c.indentation)
-    return out[:max_contacts]
+    def contacts(self, win, wmesh, rmesh, centre, R, max_contacts=2):
+        return wheel_contacts(self.name, win, wmesh, rmesh, centre, R, max_contacts)
+
+
+def numpy_twin(method: MeshMethod) -> NumpyMethod:
+    """``method`` with the numpy contact stage."""
+    return NumpyMethod(method.name, method.description, kernel=method.kernel,
+                       indentation_rate=method.indentation_rate, rail_nodes=method.rail_nodes)

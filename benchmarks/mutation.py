@@ -1,0 +1,331 @@
+"""Mutation testing of lutmpi's physics: does the CI tier notice a one-line error? (issue 16)
+
+Each mutation is one meaningful one-line change to the library -- a sign, a dropped term, a wrong
+constant, an off-by-one -- with the CI-tier tests that cover its module. For every mutation the
+harness copies the checkout to a temporary folder (never touching the working tree), replaces the
+exact original snippet by the mutant, runs the selected tests there (``pytest -x``, the copy first
+on ``PYTHONPATH``, so subprocesses such as ``lutmpi build`` run the mutant too) and reports:
+
+* ``killed``   -- the selection failed (or timed out: CI's pytest timeout would fail too);
+* ``survived`` -- the selection passed: no test noticed the error;
+* ``stale``    -- the snippet is not in the file exactly once (the code was rewritten since the
+  mutation was written: refresh the snippet, it is not a result).
+
+The score is killed / (killed + survived). Before the mutants, the union of the selections runs
+once unmutated: a red baseline makes every "killed" meaningless, so the harness stops there.
+
+Usage (CPU is shared: keep it niced, and run the whole list rarely)::
+
+    nice -n 10 .venv/bin/python benchmarks/mutation.py                 # all mutations
+    nice -n 10 .venv/bin/python benchmarks/mutation.py --only chi_0p5  # some, by id
+    .venv/bin/python benchmarks/mutation.py --check                    # stale check only, no runs
+    .venv/bin/python benchmarks/mutation.py --list                     # print the list
+
+The list and the last score are recorded in docs/MUTATION.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+
+# CI-tier test selections, by module (file paths relative to the repository root)
+T_STORED = "tests/unit/test_stored_physics.py"
+T_CLOSED = "tests/unit/test_contact_closed_form.py"
+T_MESH = "tests/unit/test_contact_mesh.py"
+T_REF = "tests/unit/test_contact_reference.py"
+T_STIFF = "tests/unit/test_stiffness.py"
+T_TRACK = "tests/unit/test_geometry_track.py"
+T_CON = "tests/unit/test_conicity.py"
+T_CREEP = "tests/unit/test_creep.py"
+T_DYN = "tests/unit/test_dynamics.py"
+T_API = "tests/unit/test_table_api.py"
+T_PARITY = "tests/unit/test_table_parity.py"
+T_PART = "tests/unit/test_table_partition.py"
+T_SCHEMA = "tests/unit/test_table_schema.py"
+CONTACT = (T_STORED, T_CLOSED, T_MESH)
+
+
+@dataclass(frozen=True)
+class Mutation:
+    """One-line mutation: in ``file`` replace ``original`` (must occur exactly once) by
+    ``replacement``; ``tests`` is the CI-tier selection that should notice."""
+
+    id: str
+    area: str
+    file: str
+    original: str
+    replacement: str
+    tests: tuple[str, ...]
+    what: str
+
+
+M = Mutation
+MUTATIONS: tuple[Mutation, ...] = (
+    # -- contact-point methods (compiled kernels, eqs. 3-7) ------------------------------------
+    M("md_indent_sign", "contact methods", "lutmpi/contact/kernels.py",
+      "(P[i, 0] - Pj[i, 0]) * N[i, 0]", "(Pj[i, 0] - P[i, 0]) * N[i, 0]", CONTACT,
+      "eq. (3): x term of the indentation V.N with the wrong sign"),
+    M("md_argmax_min", "contact methods", "lutmpi/contact/kernels.py",
+      "            if c > C[g]:\n                C[g] = c\n                WP[g] = P[i]",
+      "            if c > C[g] and C[g] < -1e299:\n                C[g] = c\n"
+      "                WP[g] = P[i]",
+      CONTACT, "eq. (3): C_max = first node of the volume instead of the maximum"),
+    M("mnd_newton_step", "contact methods", "lutmpi/contact/kernels.py",
+      "            t = t - f / df", "            t = t - 0.5 * f / df", CONTACT,
+      "eq. (4): half Newton steps on the wheel-normal line (rail point off the rail)"),
+    M("lc_rail_mean", "contact methods", "lutmpi/contact/kernels.py",
+      "                RP[g, a] /= NRn[g]\n", "                RP[g, a] /= NRn[g] + 1\n", CONTACT,
+      "eq. (6): rail load centre divided by n_r + 1"),
+    M("lc_indent_sign", "contact methods", "lutmpi/contact/kernels.py",
+      "            (WP[g, 0] - RP[g, 0]) * nwv[0]", "            (RP[g, 0] - WP[g, 0]) * nwv[0]",
+      CONTACT, "eq. (7): x term of the load-centre indentation with the wrong sign"),
+    M("intersect_ineq", "contact methods", "lutmpi/contact/kernels.py",
+      "inside[i] = (v1 * nj1 + v2 * nj2 >= 0.0) and (vni <= 0.0)",
+      "inside[i] = (v1 * nj1 + v2 * nj2 >= 0.0) or (vni <= 0.0)", CONTACT,
+      "eq. (2): a node is in V_int when either inequality holds"),
+    # -- the k_c iteration and the zero-indentation extrapolation ------------------------------
+    M("kc_criterion", "k_c iteration", "lutmpi/equilibrium/solver.py",
+      "            if cmax <= o.allowed_indentation:",
+      "            if cmax <= 3.0 * o.allowed_indentation:", (T_STORED, T_CLOSED),
+      "eq. (9): converged at three times the allowed indentation"),
+    M("kc_target", "k_c iteration", "lutmpi/equilibrium/solver.py",
+      "    target: float = 0.5  # aim", "    target: float = 5.0  # aim", (T_STORED, T_CLOSED),
+      "step 8: k_c aimed at 5x the allowed indentation"),
+    M("extrap_sign", "extrapolation", "lutmpi/equilibrium/solver.py",
+      "            return np.asarray(q) - np.linalg.solve(J, fc)",
+      "            return np.asarray(q) + np.linalg.solve(J, fc)", (T_STORED, T_CLOSED),
+      "zero-indentation extrapolation in the wrong direction"),
+    M("extrap_off", "extrapolation", "lutmpi/contact/solve.py",
+      "    if out.q_extrapolated is not None:", "    if False:", (T_STORED, T_CLOSED),
+      "stored pose not extrapolated to zero indentation"),
+    # -- flange stiffness (§4.5) ----------------------------------------------------------------
+    M("chi_0p5", "flange stiffness", "lutmpi/scene.py",
+      "chi = paper_flange_chi() if f.enabled else 1.0", "chi = 0.5 if f.enabled else 1.0",
+      (T_STORED, T_STIFF), "χ = 0.5 instead of the paper's 0.082"),
+    M("flange_interp_reversed", "flange stiffness", "lutmpi/contact/stiffness.py",
+      "[r_base, r_tip], [1.0, chi])", "[r_base, r_tip], [chi, 1.0])", (T_STORED, T_STIFF),
+      "flange factor χ at the base and 1 at the tip"),
+    M("flange_side", "flange stiffness", "lutmpi/contact/solve.py",
+      "    if not st.flange or s >= 0.0:", "    if not st.flange or s >= -0.03:",
+      (T_STORED, T_STIFF), "flange factor only beyond s = -30 mm"),
+    M("series_sum", "flange stiffness", "lutmpi/contact/stiffness.py",
+      "    out = k1 * k2 / (k1 + k2)", "    out = k1 + k2", (T_STORED, T_STIFF),
+      "Hertz and cantilever stiffness added instead of in series"),
+    # -- equilibrium terms (eq. 1, eq. 8) -------------------------------------------------------
+    M("spring_z_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
+      "        rz = -o.load - o.k_el * (q[0] - self.q0[0])", "        rz = -o.load",
+      (T_STORED, T_CLOSED), "the fictitious vertical spring term dropped"),
+    M("yaw_lever_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
+      "wx, wy, wz = w1 * pz, -w0 * pz, w0 * py - w1 * px",
+      "wx, wy, wz = w1 * pz, -w0 * pz, w0 * py", (T_STORED, T_CLOSED),
+      "the yaw term of the roll lever arm dropped"),
+    M("roll_uses_lateral", "equilibrium", "lutmpi/equilibrium/solver.py",
+      "                a0, a1 = nz, nz * wz ", "                a0, a1 = nz, ny * wz ",
+      (T_STORED, T_CLOSED), "roll balance with the lateral instead of the vertical force"),
+    M("force_factor_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
+      "                k = kc * c.factor\n", "                k = kc\n", (T_STORED, T_CLOSED),
+      "eq. (8): the flange factor left out of the equilibrium forces"),
+    M("x_g_sign", "equilibrium", "lutmpi/contact/solve.py",
+      "res.x_g = float(-F[0] / eq.k_el)", "res.x_g = float(F[0] / eq.k_el)", (T_STORED,),
+      "eq. (1): x_g with the wrong sign"),
+    M("pitch_axis", "equilibrium", "lutmpi/contact/solve.py",
+      "res.pitch = float(-M[1] / eq.k_rot)", "res.pitch = float(-M[0] / eq.k_rot)",
+      (T_STORED,), "eq. (1): pitch from the roll moment"),
+    M("stored_force_unscaled", "equilibrium", "lutmpi/contact/solve.py",
+      "c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k",
+      "c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, out.kc", (T_STORED,),
+      "kc_contact/force stored without the flange factor"),
+    # -- rail placement, gauge point ------------------------------------------------------------
+    M("incline_sign", "rail placement", "lutmpi/geometry/track.py",
+      "        vp, wp = v * cd - w * sd, v * sd + w * cd",
+      "        vp, wp = v * cd + w * sd, -v * sd + w * cd", (T_TRACK, T_STORED),
+      "rail inclined away from the track centre"),
+    M("gauge_half", "rail placement", "lutmpi/geometry/track.py",
+      "        u = 0.5 * gauge + (vp - v_gp)", "        u = gauge + (vp - v_gp)",
+      (T_TRACK, T_STORED), "gauge point placed at ±gauge instead of ±gauge/2"),
+    M("gauge_point_max", "rail placement", "lutmpi/geometry/track.py",
+      "        return float(min(cands))", "        return float(max(cands))",
+      (T_TRACK, T_STORED), "gauge point: the farthest crossing instead of the nearest"),
+    M("rolling_curvature", "geometry", "lutmpi/contact/solve.py",
+      "wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + dr * dr)),",
+      "wheel_curv_rolling=1.0 / r,", (T_STORED,),
+      "rolling curvature without Meusnier's cos(slope)"),
+    M("contact_angle_sign", "geometry", "lutmpi/contact/solve.py",
+      "contact_angle=float(np.arctan2(-side * normal[1], normal[2])),",
+      "contact_angle=float(np.arctan2(side * normal[1], normal[2])),", (T_STORED,),
+      "contact angle positive toward the field side"),
+    # -- conicity integration (EN 15302 Annex B) ------------------------------------------------
+    M("conicity_jacobian", "conicity", "lutmpi/reports/conicity.py",
+      "        jac = 0.5 * w * math.sin(theta)", "        jac = 0.5 * w", (T_CON,),
+      "substitution's Jacobian sin(theta) dropped"),
+    M("conicity_wavelength", "conicity", "lutmpi/reports/conicity.py",
+      "        wavelength = 2.0 * half * math.sqrt(0.5 * e * r0)",
+      "        wavelength = 2.0 * half * math.sqrt(e * r0)", (T_CON,),
+      "eq. (B.2): wavelength with e r0 instead of e r0 / 2"),
+    # -- creep coefficients (Kalker) ------------------------------------------------------------
+    M("kalker_c22_asymptote", "creep", "lutmpi/dynamics/creep.py",
+      "    c22 = np.pi**2 / 4.0\n", "    c22 = np.pi**2 / 2.0\n", (T_CREEP,),
+      "Kalker's C22 asymptote doubled"),
+    M("kalker_nu_interp", "creep", "lutmpi/dynamics/creep.py",
+      "    return np.array([np.interp(nu, KALKER_NU, row[i]) for i in range(row.shape[0])])",
+      "    return np.array([row[i][0] for i in range(row.shape[0])])", (T_CREEP, T_DYN),
+      "Kalker table read at ν = 0 whatever ν"),
+    M("kalker_table_entry", "creep", "lutmpi/dynamics/creep.py",
+      "[1.33, 1.47, 1.63], [1.21, 1.19, 1.16]],\n    ]\n)\nKALKER_TABLE_A_GT_B",
+      "[1.33, 1.47, 1.63], [1.21, 1.19, 1.61]],\n    ]\n)\nKALKER_TABLE_A_GT_B", (T_CREEP,),
+      "Kalker Table E.3, circle C33 at ν = 0.5 transposed digits (1.16 -> 1.61)"),
+    # -- table writer and reader ----------------------------------------------------------------
+    M("record_slot_order", "table writer", "lutmpi/table/compute.py",
+      "key=lambda c: -float(c.force))", "key=lambda c: float(c.force))",
+      (T_API, T_PARITY, T_STORED), "slot 0 holds the smaller contact force"),
+    M("record_sides", "table writer", "lutmpi/table/compute.py",
+      "out[\"n_contacts\"][i] = [len(result.contacts.get(s, [])) for s in SIDES]",
+      "out[\"n_contacts\"][i] = [len(result.contacts.get(s, [])) for s in SIDES[::-1]]",
+      (T_API, T_PARITY, T_STORED), "n_contacts stored [right, left]"),
+    M("writer_row_offset", "table writer", "lutmpi/table/h5io.py",
+      "                dset[iy[i], iyaw[i]] = values[i]",
+      "                dset[iy[i], iyaw[-1 - i]] = values[i]", (T_API, T_PARITY, T_STORED),
+      "partial-file writer puts a point in the wrong yaw column"),
+    M("reader_mask", "table reader", "lutmpi/table/api.py",
+      "        source = self.data[method] if raw else self._masked[method]",
+      "        source = self.data[method]", (T_API,),
+      "Table.get returns the unconverged points unmasked"),
+    # -- interpolation ---------------------------------------------------------------------------
+    M("interp_weight", "interpolation", "lutmpi/table/interp.py",
+      "    w = (x - axis[i]) / (axis[i + 1] - axis[i])",
+      "    w = (x - axis[i]) / (axis[i + 1] - axis[i - 1])", (T_API,),
+      "bilinear weight over two cells"),
+    M("interp_nearest", "interpolation", "lutmpi/table/interp.py",
+      "    i = np.minimum(st.i0 + (st.wy >= 0.5), ny - 1)",
+      "    i = np.minimum(st.i0 + (st.wy >= 0.9), ny - 1)", (T_API,),
+      "nearest node of integer data rounds at 0.9"),
+    # -- partitioning -----------------------------------------------------------------------------
+    M("block_extra", "partitioning", "lutmpi/parallel/partition.py",
+      "    start = rank * base + min(rank, extra)",
+      "    start = rank * base + min(rank, extra) + 1",
+      (T_PART, T_PARITY), "block split shifted by one"),
+    M("cyclic_step", "partitioning", "lutmpi/parallel/partition.py",
+      "    return np.arange(rank, n, size, dtype=np.int64)",
+      "    return np.arange(rank, n, size + 1, dtype=np.int64)", (T_PART, T_PARITY),
+      "cyclic split skips points"),
+    M("owner_rows", "partitioning", "lutmpi/parallel/partition.py",
+      "        owners[start:start + count] = rank", "        owners[start:start + count] = 0",
+      (T_PART, T_PARITY), "every row owned by rank 0 in the write split"),
+)
+
+
+def _copy_tree(dst: Path) -> None:
+    """Copy the checkout (no .git, build outputs or caches; the .venv link is kept as a link)."""
+    skip = {".git", "out", ".pytest_cache", ".ruff_cache", "__pycache__"}
+
+    def ignore(folder: str, names: list[str]) -> list[str]:
+        return [n for n in names if n in skip or n.endswith(".h5")]
+
+    shutil.copytree(REPO, dst, symlinks=True, ignore=ignore, dirs_exist_ok=True)
+
+
+def _count(path: Path, snippet: str) -> int:
+    return path.read_text().count(snippet) if path.is_file() else 0
+
+
+def _run_tests(root: Path, tests: tuple[str, ...], timeout: float) -> tuple[str, float, str]:
+    """Run ``tests`` in the copy at ``root``; (outcome, seconds, last line)."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(root) + os.pathsep + env.get("PYTHONPATH", "")
+    env["NUMBA_CACHE_DIR"] = str(root / ".numba_cache")
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-m", "not slow and not mpi",
+           "-p", "no:cacheprovider", "--timeout", "300", *tests]
+    t0 = time.perf_counter()
+    try:
+        r = subprocess.run(cmd, cwd=root, env=env, capture_output=True, text=True,
+                           timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return "killed (timeout)", time.perf_counter() - t0, "timeout"
+    dt = time.perf_counter() - t0
+    last = (r.stdout.strip().splitlines() or [""])[-1]
+    if r.returncode == 0:
+        return "survived", dt, last
+    if r.returncode == 5:
+        return "no tests", dt, last
+    return "killed", dt, last
+
+
+def run(selected: list[Mutation], timeout: float, check_only: bool) -> list[dict]:
+    results = []
+    for mu in selected:
+        n = _count(REPO / mu.file, mu.original)
+        if n != 1:
+            results.append({"id": mu.id, "outcome": "stale", "detail": f"found {n} times"})
+    stale = {r["id"] for r in results}
+    live = [mu for mu in selected if mu.id not in stale]
+    if check_only:
+        return results + [{"id": mu.id, "outcome": "ok"} for mu in live]
+    with tempfile.TemporaryDirectory(prefix="lutmpi-mutation-") as tmp:
+        root = Path(tmp) / "repo"
+        _copy_tree(root)
+        union = tuple(sorted({t for mu in live for t in mu.tests}))
+        base, dt, last = _run_tests(root, union, timeout=4 * timeout)
+        print(f"baseline ({len(union)} files): {base} in {dt:.0f} s -- {last}", flush=True)
+        if base != "survived":
+            raise SystemExit("baseline selection is not green: fix it before mutating")
+        for mu in live:
+            target = root / mu.file
+            text = target.read_text()
+            target.write_text(text.replace(mu.original, mu.replacement, 1))
+            try:
+                outcome, dt, last = _run_tests(root, mu.tests, timeout)
+            finally:
+                target.write_text(text)
+            print(f"{mu.id:24s} {outcome:18s} {dt:6.0f} s  {last}", flush=True)
+            results.append({"id": mu.id, "outcome": outcome, "seconds": round(dt, 1),
+                            "detail": last})
+    return results
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--only", nargs="*", help="mutation ids to run (default: all)")
+    ap.add_argument("--check", action="store_true", help="only check the snippets (stale)")
+    ap.add_argument("--list", action="store_true", help="print the mutations as a table")
+    ap.add_argument("--timeout", type=float, default=600.0, help="seconds per mutation")
+    ap.add_argument("--json", type=Path, help="write the results here")
+    a = ap.parse_args(argv)
+    ids = {mu.id for mu in MUTATIONS}
+    if len(ids) != len(MUTATIONS):
+        raise SystemExit("duplicate mutation ids")
+    if a.list:
+        print("| id | area | file | mutation | tests |\n|---|---|---|---|---|")
+        for mu in MUTATIONS:
+            tests = ", ".join(Path(t).stem for t in mu.tests)
+            print(f"| `{mu.id}` | {mu.area} | `{mu.file}` | {mu.what} | {tests} |")
+        return 0
+    unknown = set(a.only or ()) - ids
+    if unknown:
+        raise SystemExit(f"unknown mutation ids {sorted(unknown)}; valid: {sorted(ids)}")
+    selected = [mu for mu in MUTATIONS if not a.only or mu.id in a.only]
+    results = run(selected, a.timeout, a.check)
+    counts: dict[str, int] = {}
+    for r in results:
+        key = "killed" if r["outcome"].startswith("killed") else r["outcome"]
+        counts[key] = counts.get(key, 0) + 1
+    k, s = counts.get("killed", 0), counts.get("survived", 0)
+    score = f"{100.0 * k / (k + s):.0f} %" if k + s else "n/a"
+    print(f"summary: {counts}; score (killed / (killed + survived)) = {score}")
+    if a.json:
+        a.json.write_text(json.dumps({"results": results, "counts": counts}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

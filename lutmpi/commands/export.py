@@ -1,0 +1,32 @@
+"""``lutmpi export TABLE.h5 --format F -o OUT``: a table in a format other tools read."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+
+def register(subparsers: Any) -> None:
+    from lutmpi.export import FORMATS, format_module
+
+    p = subparsers.add_parser(
+        "export", help="write a table as CSV, MATLAB .mat or GENSYS KPF profiles",
+        description="Export a lookup table. Formats: " + "; ".join(
+            f"{name}: {format_module(name).DESCRIPTION}" for name in FORMATS) + ".")
+    p.add_argument("table", help="lookup table (HDF5)")
+    p.add_argument("--format", required=True, choices=list(FORMATS), help="output format")
+    p.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="output file (or an existing directory: the name follows the table's)")
+    p.add_argument("--yaw-rad", type=float, default=0.0,
+                   help="csv: the yaw of the 1-D functions, rad, a grid value (default 0)")
+    p.add_argument("--method", default=None, help="csv: contact method (default: the first)")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from lutmpi.export import export
+
+    for path in export(args.table, args.format, args.output, yaw=args.yaw_rad,
+                       method=args.method):
+        print(path)
+    return 0

@@ -1,0 +1,158 @@
+"""The pose pipeline of the mesh methods (§4.3): from the rigid contact, the window of each
+wheel, the equilibrium with the k_c iteration on the windowed meshes using the method's
+contact stage, and the pose result. Shared by every :class:`~lutmpi.contact.methods.MeshMethod`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lutmpi.contact.locus import RigidSolution
+from lutmpi.contact.mesh import Window, build_window
+from lutmpi.contact.records import SIDE_SIGN, contact_record
+from lutmpi.contact.stiffness import flange_kc_scale
+from lutmpi.equilibrium.result import STATUS, WINDOW, PoseResult
+from lutmpi.equilibrium.solver import ContactForce, Equilibrium
+from lutmpi.geometry.pose import wheelset_rotation
+
+
+def flange_factor(scene, s: float) -> float:
+    """k_c factor of §4.5 at wheel profile coordinate ``s`` (1 on the tread)."""
+    st = scene.settings
+    if not st.flange or s >= 0.0:  # the flange is on the s < 0 side of the tape circle
+        return 1.0
+    samp = scene.locus.samp
+    r = float(np.interp(s, samp.s, samp.r))
+    return float(flange_kc_scale(r, st.flange_base_radius, st.flange_tip_radius, st.chi))
+
+
+def _rigid_angle(scene, c) -> float:
+    """Contact angle of a rigid (locus) contact from the rail slope at its lateral position."""
+    u = float(np.clip(c.u, scene.rail.u_min, scene.rail.u_max))
+    return float(np.arctan(scene.rail.slope(u)))
+
+
+def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> dict[str, Window]:
+    """The window of each wheel at the rigid pose, ``depth`` (m) deep."""
+    wm, rm = scene.wheel_mesh, scene.rail_mesh
+    centre = np.array([0.0, rigid.y, rigid.z_g])
+    R = wheelset_rotation(rigid.yaw, rigid.roll)
+    out = {}
+    for name, side in SIDE_SIGN.items():
+        # the locus at the rigid pose, sampled every 0.1 mm, interpolated at the mesh slices
+        # (window selection only: the interpolation error is a few nm of gap)
+        loc = rigid.loci[name]
+        phi = np.interp(wm.s, loc.s, loc.phi)
+        gap = np.interp(wm.s, loc.s, np.where(np.isfinite(loc.gap), loc.gap, 1.0))
+        gap[(wm.s < loc.s[0]) | (wm.s > loc.s[-1])] = np.inf
+        gap[gap >= 1.0] = np.inf
+        out[name] = build_window(
+            side, wm, rm, centre, R, phi, gap, depth,
+            with_rail=method.rail_nodes, full=full,
+        )
+    return out
+
+
+def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResult:
+    """The pose result of mesh method ``method`` from the rigid contact ``rigid``."""
+    eq = scene.equilibrium
+    f_min = min(
+        (flange_factor(scene, c.s) for cs in rigid.contacts.values() for c in cs), default=1.0
+    )
+    # window depth: the margin plus twice the vertical approach of the softest contact at the
+    # first k_c (normal approach W / (k f) over cos of the steepest contact angle)
+    n_z = min((abs(np.cos(_rigid_angle(scene, c))) for cs in rigid.contacts.values() for c in cs),
+              default=1.0)
+    depth = scene.settings.window_gap + 2.0 * eq.load / (eq.kc0 * f_min * max(n_z, 0.2))
+    for _ in range(3):
+        wins = windows(scene, rigid, method, depth, full or not scene.settings.window)
+        solver = Equilibrium(
+            _evaluator(scene, wins, method, rigid),
+            rigid.y,
+            rigid.yaw,
+            np.array([rigid.z_g, rigid.roll]),
+            eq,
+            lever=scene.wheel.d,
+            fmin=f_min,
+            rate=method.indentation_rate,
+            nz_min=n_z,
+        )
+        out = solver.solve()
+        # how far the wheels moved vertically at their contacts: the nodes left out of the
+        # window had a rigid gap above ``depth``, so none of them can be in contact unless a
+        # wheel moved that far
+        dz, dr = out.q[0] - rigid.z_g, out.q[1] - rigid.roll
+        moved = max(abs(dz + sd * scene.wheel.d * dr) for sd in SIDE_SIGN.values()) \
+            + 0.1 * abs(dr)
+        if full or not scene.settings.window or moved < depth:
+            break
+        depth *= 4.0  # the pose left the window's depth: widen it and solve again
+    else:
+        out.success, out.status, out.message = False, WINDOW, STATUS[WINDOW]
+    return _pose_from_equilibrium(scene, rigid, method, out)
+
+
+def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
+    wm, rm = scene.wheel_mesh, scene.rail_mesh
+    mc = scene.settings.max_contacts
+    rate = method.indentation_rate
+
+    def evaluate(q: np.ndarray) -> dict[str, list[ContactForce]]:
+        centre = np.array([0.0, rigid.y, q[0]])
+        R = wheelset_rotation(rigid.yaw, q[1])
+        out = {}
+        for name, win in wins.items():
+            cs = method.contacts(win, wm, rm, centre, R, mc)
+            out[name] = [
+                ContactForce(
+                    point=c.wheel_point,
+                    normal=-c.n_wheel,
+                    indentation=c.indentation,
+                    factor=flange_factor(scene, c.s),
+                    data=c,
+                    nodes=c.n_wheel_nodes,
+                    rate=rate,
+                )
+                for c in cs
+            ]
+        return out
+
+    return evaluate
+
+
+def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResult:
+    eq = scene.equilibrium
+    z, roll = float(out.q[0]), float(out.q[1])
+    G = np.array([0.0, rigid.y, z])
+    if out.q_extrapolated is not None:
+        z, roll = float(out.q_extrapolated[0]), float(out.q_extrapolated[1])
+    F = np.zeros(3)
+    M = np.zeros(3)
+    res = PoseResult(
+        y=rigid.y,
+        yaw=rigid.yaw,
+        method=method.name,
+        z_g=z,
+        roll=roll,
+        success=out.success,
+        status=out.status,
+        message=out.message,
+        nit=out.nit,
+        kc=out.kc,
+        indentation=out.indentation,
+    )
+    for name, side in SIDE_SIGN.items():
+        for cf in out.contacts.get(name, []):
+            c = cf.data
+            k = out.kc * cf.factor
+            f = k * cf.indentation * cf.normal
+            F += f
+            M += np.cross(cf.point - G, f)
+            res.contacts[name].append(
+                contact_record(
+                    scene, side, c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k
+                )
+            )
+    res.x_g = float(-F[0] / eq.k_el)  # eq. (1): the x spring carries the longitudinal force
+    res.pitch = float(-M[1] / eq.k_rot)  # eq. (1): the pitch spring carries M_y
+    return res

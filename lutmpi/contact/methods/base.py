@@ -1,0 +1,114 @@
+"""What a contact method is: a name, its properties and its stage of the pose solve.
+
+:class:`ContactMethod` is the base of every method: ``solve(scene, rigid)`` turns the rigid
+contact of a pose (the locus solution, the start of every method) into a
+:class:`~lutmpi.equilibrium.result.PoseResult`. :class:`MeshMethod` is the base of the methods
+of §4.2 that search the meshes: its ``kernel`` is the method's compiled stage (the contacts of
+one wheel at a pose, from the shared eq. (2) search and §4.6 split of
+:mod:`lutmpi.contact.kernels`), and its ``solve`` is the shared mesh pipeline (window, k_c
+iteration, results) of :mod:`lutmpi.contact.mesh_pose`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from lutmpi.contact.kernels import Contacts, Pose, WindowArrays
+
+
+@dataclass
+class MeshContact:
+    """One contact of one wheel found on the meshes (track frame, SI)."""
+
+    wheel_point: np.ndarray
+    rail_point: np.ndarray
+    n_wheel: np.ndarray  # wheel outward normal at the contact (unit)
+    indentation: float
+    s: float  # wheel profile coordinate of the wheel point
+    u_rail: float  # side-local lateral coordinate of the rail point
+    n_wheel_nodes: int
+    n_rail_nodes: int
+
+
+@dataclass(frozen=True)
+class ContactMethod:
+    """A contact method.
+
+    Attributes
+    ----------
+    name : str
+        The name a config selects it by (``contact.method``, ``output.methods``).
+    description : str
+        One line, with the paper's equations.
+    """
+
+    name: str
+    description: str
+
+    @property
+    def uses_mesh(self) -> bool:
+        """Whether the method searches the meshes (a window, k_c, an indentation rate)."""
+        return False
+
+    def solve(self, scene, rigid, full_mesh: bool = False):
+        """The pose result from the rigid contact ``rigid`` (a successful
+        :class:`~lutmpi.contact.locus.RigidSolution`)."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class MeshMethod(ContactMethod):
+    """A contact-point method of §4.2 on the wheel and rail meshes.
+
+    Attributes
+    ----------
+    kernel : callable
+        Compiled ``kernel(win: WindowArrays, wheel: WheelArrays, rail: RailArrays, pose: Pose)
+        -> Contacts``: the contacts of one wheel.
+    indentation_rate : float
+        d(indentation)/d(approach) of the method's C (1 for a point indentation; 1/2 for the
+        load centre, the mean separation of two paraboloidal caps).
+    rail_nodes : bool
+        Whether the stage needs the window's rail nodes.
+    """
+
+    kernel: Callable[..., Contacts] | None = None
+    indentation_rate: float = 1.0
+    rail_nodes: bool = False
+
+    @property
+    def uses_mesh(self) -> bool:
+        return True
+
+    def contacts(self, win, wmesh, rmesh, centre: np.ndarray, R: np.ndarray,
+                 max_contacts: int = 2) -> list[MeshContact]:
+        """Contacts of the window's wheel at the pose (``centre``, ``R``), largest indentation
+        first, at most ``max_contacts``."""
+        out = self.kernel(win.arrays, wmesh.arrays, rmesh.arrays, Pose(centre, R))
+        found = [
+            MeshContact(
+                wheel_point=out.wheel_point[g].copy(),
+                rail_point=out.rail_point[g].copy(),
+                n_wheel=out.n_wheel[g].copy(),
+                indentation=float(out.C[g]),
+                s=float(out.s[g]),
+                u_rail=float(win.side * out.rail_point[g, 1]),
+                n_wheel_nodes=int(out.n_wheel_nodes[g]),
+                n_rail_nodes=int(out.n_rail_nodes[g]),
+            )
+            for g in range(out.n)
+            if out.C[g] > 0.0
+        ]
+        found.sort(key=lambda c: -c.indentation)
+        return found[:max_contacts]
+
+    def solve(self, scene, rigid, full_mesh: bool = False):
+        from lutmpi.contact.mesh_pose import solve_mesh_pose
+
+        return solve_mesh_pose(scene, rigid, self, full_mesh)
+
+
+__all__ = ["ContactMethod", "Contacts", "MeshContact", "MeshMethod", "WindowArrays"]

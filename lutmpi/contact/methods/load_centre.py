@@ -1,0 +1,108 @@
+"""``load_centre`` (eqs. 6-7, the paper's preferred method): the centroids of the wheel nodes
+and of the rail nodes of each volume of V_int; ``C`` from eq. (7) with the wheel normal at the
+wheel centroid.
+
+A rail node is in V_int by eq. (2) paired with its nearest wheel node; it belongs to the first
+volume whose slices (one either side) hold its nearest wheel slice."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from lutmpi.contact.kernels import (
+    K_NEAR,
+    _nearest_slice,
+    empty_contacts,
+    search_wheel_nodes,
+    wheel_normal,
+)
+from lutmpi.contact.methods.base import MeshMethod
+
+
+@njit(cache=True)
+def _rail_centroid_sums(out, ws, win, wheel, pose):
+    """Eq. (2) for every rail node of the window; the sums of the V_int rail nodes per volume
+    into ``out.rail_point`` and their counts into ``out.n_rail_nodes``."""
+    side, centre, R = win.side, pose.centre, pose.R
+    rail_pts, rail_nrm = win.rail_pts, win.rail_nrm
+    ws_, wr, wdr, d, dphi = wheel.s, wheel.r, wheel.dr, wheel.d, wheel.dphi
+    for j in range(rail_pts.shape[0]):
+        q0 = rail_pts[j, 0] - centre[0]
+        q1 = rail_pts[j, 1] - centre[1]
+        q2 = rail_pts[j, 2] - centre[2]
+        c0 = R[0, 0] * q0 + R[1, 0] * q1 + R[2, 0] * q2
+        c1 = R[0, 1] * q0 + R[1, 1] * q1 + R[2, 1] * q2
+        c2 = R[0, 2] * q0 + R[1, 2] * q1 + R[2, 2] * q2
+        rho = np.sqrt(c0 * c0 + c2 * c2)
+        k = _nearest_slice(side * c1, rho, ws_, wr, d, K_NEAR)
+        g = -1
+        for h in range(ws.nvol):
+            if ws.kmin[h] - 1 <= k <= ws.kmax[h] + 1:
+                g = h
+                break
+        if g < 0:
+            continue
+        phi = np.round(np.arctan2(c0, -c2) / dphi) * dphi
+        r, dr = wr[k], wdr[k]
+        b0, b1, b2 = r * np.sin(phi), side * (d + ws_[k]), -r * np.cos(phi)
+        inv = 1.0 / np.sqrt(1.0 + dr * dr)
+        n0, n1, n2 = np.sin(phi) * inv, -side * dr * inv, -np.cos(phi) * inv
+        v = np.empty(3)
+        vn = 0.0
+        vm = 0.0
+        for a in range(3):
+            pa = centre[a] + R[a, 0] * b0 + R[a, 1] * b1 + R[a, 2] * b2
+            na = R[a, 0] * n0 + R[a, 1] * n1 + R[a, 2] * n2
+            v[a] = rail_pts[j, a] - pa
+            vn += v[a] * rail_nrm[j, a]
+            vm += v[a] * na
+        if vn >= 0.0 and vm <= 0.0:  # eq. (2), rail side
+            out.n_rail_nodes[g] += 1
+            for a in range(3):
+                out.rail_point[g, a] += rail_pts[j, a]
+
+
+@njit(cache=True)
+def contacts(win, wheel, rail, pose):
+    """Eqs. (6)-(7) on every volume of one wheel's window (see :class:`MeshMethod`)."""
+    ws = search_wheel_nodes(win, rail, pose)
+    out = empty_contacts(ws)
+    if ws.nvol == 0:
+        return out
+    WP, RP = out.wheel_point, out.rail_point
+    for i in range(ws.vol.size):
+        g = ws.vol[i]
+        if g >= 0:
+            for a in range(3):
+                WP[g, a] += ws.P[i, a]
+    _rail_centroid_sums(out, ws, win, wheel, pose)
+    for g in range(ws.nvol):
+        for a in range(3):  # eq. (6): centroid of the wheel nodes
+            WP[g, a] /= ws.n_nodes[g]
+        if out.n_rail_nodes[g] > 0:
+            for a in range(3):  # eq. (6): centroid of the rail nodes
+                RP[g, a] /= out.n_rail_nodes[g]
+        else:  # no rail node inside yet: the wheel nodes' nearest rail nodes
+            cnt = 0
+            for i in range(ws.vol.size):
+                if ws.vol[i] == g:
+                    cnt += 1
+                    for a in range(3):
+                        RP[g, a] += ws.Pj[i, a]
+            for a in range(3):
+                RP[g, a] /= cnt
+        nwv, s = wheel_normal(WP[g], win.side, pose, wheel)
+        out.n_wheel[g] = nwv
+        out.s[g] = s
+        # eq. (7): indentation along the wheel normal at the wheel centroid
+        out.C[g] = (
+            (WP[g, 0] - RP[g, 0]) * nwv[0]
+            + (WP[g, 1] - RP[g, 1]) * nwv[1]
+            + (WP[g, 2] - RP[g, 2]) * nwv[2]
+        )
+    return out
+
+
+METHOD = MeshMethod("load_centre", "centroids of the intersecting volume, eqs. (6)-(7)",
+                    kernel=contacts, indentation_rate=0.5, rail_nodes=True)

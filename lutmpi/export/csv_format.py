@@ -1,0 +1,78 @@
+"""``csv``: the 1-D contact functions of y at one yaw, both wheels, both contact slots.
+
+One row per lateral shift ``y``; the columns are every stored dataset of :mod:`lutmpi.table.schema`
+(see :func:`lutmpi.reports.units.columns`), lengths in mm, angles in degrees, the unit at the end of
+each column name (``rolling_radius_left_s0_mm``, ``contact_angle_right_s1_deg``,
+``normal_y_left_s0``
+dimensionless). ``status_text`` names the solve status; points that did not converge keep their
+status but their float values are empty (NaN), so no number stands for a failed solve. Header lines
+starting with ``#`` give the table, method, yaw, case and the status codes.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lutmpi.equilibrium.result import STATUS
+from lutmpi.errors import ConfigError
+from lutmpi.reports.units import all_columns, edge_unit
+
+NAME = "csv"
+DESCRIPTION = "1-D functions of y at one yaw (both wheels, both contacts), mm and deg"
+
+
+def yaw_index(table: Any, yaw: float) -> int:
+    """Index of the grid yaw equal to ``yaw`` (rad, within 1e-9 rad); raises naming the grid."""
+    j = int(np.argmin(np.abs(table.yaw - yaw)))
+    if abs(table.yaw[j] - yaw) > 1e-9:
+        raise ConfigError(f"{table.path}: yaw {yaw:g} rad is not on the grid (nearest "
+                          f"{table.yaw[j]:g} rad; grid {table.yaw[0]:g} .. {table.yaw[-1]:g} rad, "
+                          f"{table.yaw.size} values)", key="--yaw-rad")
+    return j
+
+
+def rows(table: Any, j: int, method: str | None = None) -> tuple[list[str], list[list[Any]]]:
+    """Header and rows of the 1-D functions at yaw index ``j`` (masked: NaN where not converged)."""
+    stored = table.quantities
+    cols = [(f, c, i) for f, c, i in all_columns(stored)]
+    header = ["y_mm"] + [c for _, c, _ in cols] + ["status_text"]
+    status = table.get("status", method, raw=True)[:, j]
+    out = []
+    for iy, y in enumerate(table.y):
+        row: list[Any] = [y * 1e3]
+        for f, _, idx in cols:
+            v = table.get(f.name, method)[(iy, j) + idx]
+            if np.dtype(f.dtype).kind == "f":
+                row.append(float(v) * edge_unit(f.units)[1])
+            else:
+                row.append(int(v))
+        row.append(STATUS.get(int(status[iy]), str(status[iy])).split(":")[0])
+        out.append(row)
+    return header, out
+
+
+def write(table: Any, out: Path, *, yaw: float = 0.0, method: str | None = None,
+          **_: Any) -> list[Path]:
+    """Write the CSV of the functions at ``yaw`` (rad) to ``out`` (a file, or a directory)."""
+    from lutmpi.reports.pair import pair_info
+
+    j = yaw_index(table, yaw)
+    method = method or table.methods[0]
+    if out.is_dir():
+        out = out / f"{Path(table.path).stem}_{method}_yaw{table.yaw[j]:+.4f}.csv"
+    header, data = rows(table, j, method)
+    with open(out, "w", newline="") as fh:
+        fh.write(f"# lutmpi table {table.path}, method {method}, yaw {table.yaw[j]:.6g} rad\n")
+        fh.write(f"# {pair_info(table.config_toml).title}\n")
+        fh.write("# status codes: " + "; ".join(f"{k} {v.split(':')[0]}"
+                                                for k, v in STATUS.items()) + "\n")
+        w = csv.writer(fh)
+        w.writerow(header)
+        for row in data:
+            w.writerow(["" if isinstance(v, float) and np.isnan(v) else
+                        (f"{v:.10g}" if isinstance(v, float) else v) for v in row])
+    return [out]

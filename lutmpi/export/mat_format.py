@@ -1,0 +1,63 @@
+"""``mat``: the whole table for MATLAB / ``scipy.io.loadmat`` (MAT-file level 5).
+
+Variables: ``y`` (m), ``yaw`` (rad); one struct per contact method (``load_centre``, ...) with every
+dataset the table holds, stored values unchanged (SI, the schema's shapes ``(ny, nyaw, side, slot,
+xyz)``, integer codes as integers, not-converged points as stored: use ``status``); ``units`` and
+``description`` structs (method -> dataset -> text); ``status_codes`` (a cell of ``"code: text"``);
+``attrs`` (the root attributes as text, ``config_toml`` included). Datasets the table adds beyond
+the schema (e.g. stored jump curves) are written the same way, so the file holds every dataset of
+the HDF5 file; a test reads it back with ``scipy.io.loadmat`` and compares each one to the HDF5.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from lutmpi.equilibrium.result import STATUS
+from lutmpi.errors import TableError
+
+NAME = "mat"
+DESCRIPTION = "the whole table (grid, every dataset, units, status codes) for MATLAB / scipy"
+_MAX_NAME = 63   # MATLAB's limit on variable and field names
+
+
+def _check_name(name: str) -> str:
+    if not name.isidentifier() or len(name) > _MAX_NAME:
+        raise TableError(f"{name!r} cannot be a MATLAB variable or field name")
+    return name
+
+
+def content(table: Any) -> dict[str, Any]:
+    """The dictionary ``scipy.io.savemat`` writes."""
+    out: dict[str, Any] = {"y": np.asarray(table.y), "yaw": np.asarray(table.yaw)}
+    units: dict[str, Any] = {}
+    desc: dict[str, Any] = {}
+    for method in table.methods:
+        group = table.data[method]
+        out[_check_name(method)] = {_check_name(k): np.asarray(v) for k, v in group.items()}
+        meta = table.meta[method]
+        units[method] = {k: str(meta.get(k, {}).get("units", "")) for k in group}
+        desc[method] = {k: str(meta.get(k, {}).get("description", "")) for k in group}
+    out["units"] = units
+    out["description"] = desc
+    out["status_codes"] = np.array([f"{k}: {v}" for k, v in STATUS.items()], dtype=object)
+    out["attrs"] = {_check_name(k): (v if isinstance(v, str) else json.dumps(v, default=str))
+                    for k, v in table.attrs.items()}
+    return out
+
+
+def write(table: Any, out: Path, **_: Any) -> list[Path]:
+    """Write ``out`` (``.mat`` added when missing; a directory gets ``<table stem>.mat``)."""
+    import scipy.io
+
+    if out.is_dir():
+        out = out / f"{Path(table.path).stem}.mat"
+    elif out.suffix != ".mat":
+        out = out.with_name(out.name + ".mat")
+    scipy.io.savemat(out, content(table), do_compression=True, oned_as="column",
+                     long_field_names=True)
+    return [out]

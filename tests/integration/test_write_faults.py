@@ -1,0 +1,239 @@
+"""Write-time fault drills of ``lutmpi build`` with real faults (issue 13, "Must show").
+
+Each test launches real builds (``[mpirun -n K] lutmpi build ... --solver <closed-form test
+solver>``) and injects the fault for real: a full tmpfs, ``kill -9`` of the process, a profile file
+edited between kill and resume, a second process building the same output. Tables are compared bit
+for bit with a fresh build (timing fields excepted, :func:`tests.support.tables.differences`).
+The test solver sleeps per point (``LUTMPI_FAULT=sleep=S``) so a fault lands mid-build.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import re
+import shutil
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import h5py
+import pytest
+
+from lutmpi.paths import REPO_ROOT
+from lutmpi.table import journal
+from tests.support.tables import build, differences, start_build
+
+pytestmark = [pytest.mark.timeout(180),
+              pytest.mark.skipif(shutil.which("mpirun") is None, reason="mpirun not installed")]
+
+METHODS = ("load_centre", "max_distance")
+N_POINTS = 7 * 5
+SLOW = "sleep=0.03"      # 0.03-0.15 s per solve (faulty_solver), ~2-5 s per build
+
+
+def _config(directory: Path, wheel: str | None = None, name: str = "t.toml") -> Path:
+    """The 7 x 5 two-method config; ``wheel`` a profile path (the test solver reads no profile,
+    but its bytes are an input of the build, hashed into the table)."""
+    src = f'profile = "{wheel}"' if wheel else 'generator = "S1002"'
+    path = directory / name
+    path.write_text(f'[wheel]\n{src}\n[rail]\ngenerator = "UIC60"\n'
+                    '[grid]\ny_mm = [-9.0, 9.0, 7]\nyaw_rad = [-0.12, 0.12, 5]\n'
+                    f'[output]\nmethods = [{", ".join(repr(m) for m in METHODS)}]\n'
+                    .replace("'", '"'))
+    return path
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """A fresh, uninterrupted serial build: what every drill must end with."""
+    d = tmp_path_factory.mktemp("ref")
+    cfg = _config(d)
+    res = build(cfg, d / "ref.h5", 1)
+    assert res.returncode == 0, res.stderr
+    return cfg, d / "ref.h5"
+
+
+def _journaled(out: Path) -> int:
+    try:
+        return len(journal.done_points(journal.journal_dir(out)))
+    except Exception:       # header not written yet
+        return 0
+
+
+def _wait_for_points(proc: subprocess.Popen, out: Path, n: int, timeout: float = 60) -> int:
+    t_end = time.monotonic() + timeout
+    while time.monotonic() < t_end:
+        if proc.poll() is not None:
+            pytest.fail(f"build ended early (rc {proc.returncode}): {proc.stderr.read()}")
+        if (k := _journaled(out)) >= n:
+            return k
+        time.sleep(0.05)
+    proc.kill()
+    pytest.fail(f"no {n} journaled points within {timeout} s")
+
+
+def _counts(stderr: str) -> tuple[int, int]:
+    m = re.search(r"\((\d+) computed, (\d+) reused\)", stderr)
+    assert m, stderr
+    return int(m.group(1)), int(m.group(2))
+
+
+# -- disk full ----------------------------------------------------------------------------------
+
+@pytest.fixture
+def small_fs(tmp_path):
+    """A real 4 MiB tmpfs (skipped where mounting is not permitted)."""
+    mnt = tmp_path / "fs"
+    mnt.mkdir()
+    res = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=4m", "tmpfs", str(mnt)],
+                         capture_output=True, text=True)
+    if res.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here ({res.stderr.strip()}): needs root/CAP_SYS_ADMIN")
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], capture_output=True)
+
+
+def _fill(directory: Path) -> Path:
+    """Fill the file system of ``directory`` to the last byte (real ENOSPC for everyone)."""
+    filler = directory / "filler"
+    with open(filler, "wb", buffering=0) as fh:
+        for chunk in (1 << 16, 1 << 12, 1):
+            try:
+                while True:
+                    fh.write(b"\0" * chunk)
+            except OSError as exc:
+                assert exc.errno == errno.ENOSPC, exc
+    return filler
+
+
+def test_disk_full_mid_build_on_two_ranks_ends_fast_and_resumes_identical(reference, small_fs):
+    cfg, ref = reference
+    out = small_fs / "t.h5"
+    proc = start_build(cfg, out, 2, "--checkpoint-interval", "0", LUTMPI_FAULT=SLOW)
+    before = _wait_for_points(proc, out, 6)
+    filler = _fill(small_fs)
+    t_full = time.monotonic()
+    try:
+        _, stderr = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail("the build did not end within 60 s of the disk filling up")
+    elapsed = time.monotonic() - t_full
+    print(f"disk full: ended {elapsed:.1f} s after the fill; stderr tail:\n{stderr[-1500:]}")
+    assert proc.returncode != 0, stderr
+    assert "No space left on device" in stderr and "--resume" in stderr, stderr
+    assert elapsed < 60, elapsed
+    assert not out.exists()                              # nothing claims to be complete
+    with h5py.File(out.with_name(out.name + ".partial"), "r") as f:
+        assert not f.attrs["complete"]
+    kept = _journaled(out)
+    assert kept >= before
+    filler.unlink()                                      # space is back
+    res = build(cfg, out, 2, "--resume")
+    assert res.returncode == 0, res.stderr
+    computed, reused = _counts(res.stderr)
+    assert reused == kept and computed == N_POINTS - kept
+    assert differences(ref, out) == []
+
+
+# -- kill -9 of a one-process build ---------------------------------------------------------------
+
+def test_kill9_one_rank_after_n_points_resume_reuses_them_and_is_identical(reference, tmp_path):
+    cfg, ref = reference
+    out = tmp_path / "t.h5"
+    proc = start_build(cfg, out, 1, LUTMPI_FAULT=SLOW)       # default fsync interval
+    n = _wait_for_points(proc, out, 8)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.communicate(timeout=30)
+    assert proc.returncode == -signal.SIGKILL
+    assert not out.exists()
+    kept = _journaled(out)
+    assert kept >= n
+    res = build(cfg, out, 1, "--resume")
+    assert res.returncode == 0, res.stderr
+    computed, reused = _counts(res.stderr)
+    assert reused == kept >= n and computed == N_POINTS - kept
+    assert differences(ref, out) == []
+
+
+# -- inputs by content ------------------------------------------------------------------------
+
+def test_changed_profile_refused_same_content_elsewhere_resumes(reference, tmp_path):
+    _, ref = reference
+    first, second = tmp_path / "first", tmp_path / "second"
+    first.mkdir()
+    second.mkdir()
+    wheel = first / "wheel.whl"
+    shutil.copy(REPO_ROOT / "profiles" / "avg_wheel.whl", wheel)
+    cfg = _config(first, "wheel.whl")
+    out = tmp_path / "t.h5"
+    # the process kills itself at y = 3 mm, yaw = 0: 23 of 35 points are done before it
+    res = build(cfg, out, 1, "--checkpoint-interval", "0", LUTMPI_FAULT="kill@3.0/0.0")
+    assert res.returncode == -signal.SIGKILL
+    kept = _journaled(out)
+    assert kept > 0
+    original = wheel.read_bytes()
+    wheel.write_bytes(original.replace(b"\n", b"\n ", 1))   # one byte more: other content
+    res = build(cfg, out, 1, "--resume")
+    assert res.returncode != 0 and "Traceback" not in res.stderr
+    assert "other inputs" in res.stderr and "wheel.profile" in res.stderr, res.stderr
+    assert not out.exists() and _journaled(out) == kept    # nothing mixed, nothing lost
+    # the same bytes under another folder and config path: the same inputs, so it resumes
+    shutil.copy(REPO_ROOT / "profiles" / "avg_wheel.whl", second / "renamed.whl")
+    moved = _config(second, "renamed.whl", name="moved.toml")
+    res = build(moved, out, 2, "--resume")
+    assert res.returncode == 0, res.stderr
+    assert _counts(res.stderr) == (N_POINTS - kept, kept)
+    fresh = tmp_path / "fresh.h5"
+    assert build(moved, fresh, 1).returncode == 0
+    assert differences(fresh, out) == []
+    assert differences(ref, out) == ["@config_toml", "@inputs"]  # only the wheel differs
+
+
+# -- a second writer ---------------------------------------------------------------------------
+
+def test_second_build_on_same_output_refused_at_once_first_completes(reference, tmp_path):
+    cfg, ref = reference
+    out = tmp_path / "t.h5"
+    first = start_build(cfg, out, 2, LUTMPI_FAULT=SLOW)
+    _wait_for_points(first, out, 2)
+    t0 = time.monotonic()
+    second = build(cfg, out, 2, "--force", timeout=60)
+    elapsed = time.monotonic() - t0
+    assert second.returncode != 0
+    assert "being written by another lutmpi build (pid" in second.stderr, second.stderr
+    assert elapsed < 15, elapsed            # refused before any compute (mpirun start-up only)
+    _, stderr = first.communicate(timeout=120)
+    assert first.returncode == 0, stderr
+    assert differences(ref, out) == []
+    assert not out.with_name(out.name + ".lock").exists()
+
+
+# -- Ctrl-C / SIGTERM ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize(("ranks", "sig"), [(1, signal.SIGINT), (2, signal.SIGINT),
+                                            (2, signal.SIGTERM)])
+def test_signal_ends_build_with_a_message_and_the_partial_resumes(reference, tmp_path, ranks,
+                                                                   sig):
+    """Ctrl-C on one process, SIGINT/SIGTERM to mpirun: a message saying so, no traceback, and the
+    journal resumes to the fresh table."""
+    cfg, ref = reference
+    out = tmp_path / "t.h5"
+    proc = start_build(cfg, out, ranks, LUTMPI_FAULT=SLOW)
+    _wait_for_points(proc, out, 4)
+    proc.send_signal(sig)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode != 0
+    if ranks == 1:
+        assert proc.returncode == 128 + sig
+    assert re.search(r"interrupted by SIG(INT|TERM)", stderr), stderr
+    assert "rerun with --resume" in stderr and "Traceback" not in stderr
+    assert not out.exists()
+    res = build(cfg, out, 1, "--resume")
+    assert res.returncode == 0, res.stderr
+    assert _counts(res.stderr)[1] >= 4
+    assert differences(ref, out) == []
