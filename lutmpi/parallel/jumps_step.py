@@ -60,6 +60,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
     full = _all_rows(comm, row_start, blocks)
     lfields = limit_fields(fields)
     for method in methods:
+        t_method = time.perf_counter()
         arrays = full[method]
 
         def solve(y: float, yaw: float, method: str = method) -> dict[str, np.ndarray]:
@@ -71,7 +72,9 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
             "interpolants": json.dumps(modes), "candidate_m": _jumps.CANDIDATE_M,
             "confirm_m": _jumps.CONFIRM_M, "tol_m": _jumps.TOL_M,
-            "refine_tol": json.dumps(_jumps.REFINE_TOL), "min_width_m": _jumps.MIN_WIDTH_M})
+            "refine_tol": json.dumps(_jumps.REFINE_TOL), "min_width_m": _jumps.MIN_WIDTH_M,
+            # the same value on every rank (collective metadata): rank 0's
+            "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
         if comm.rank == 0:
             log.info("%s: %d candidate cells, %d jumps located (per yaw: max %d), %d extra knots; "
                      "interpolants %s", method, n_cells, int(js.count.sum()),

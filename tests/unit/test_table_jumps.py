@@ -227,3 +227,39 @@ def test_simulate_leaving_the_table_stops_with_a_message_naming_the_pose(tmp_pat
     # stopped on the edge: located as an event, not a sample beyond it
     assert math.isclose(abs(y), 0.2, abs_tol=1e-4) or math.isclose(abs(yaw), 0.004, abs_tol=1e-6)
     assert abs(y) <= 0.2 + 1e-4 and abs(yaw) <= 0.004 + 1e-6
+
+
+def test_table_error_report_equals_a_direct_recomputation(tmp_path):
+    """The report's max errors are what Table.interp and direct solves give at its poses."""
+    from lutmpi.contact.solve import solve_pose
+    from lutmpi.reports import table_error
+    from lutmpi.scene import Scene
+    from lutmpi.table import Table
+    from lutmpi.table.compute import pose_to_record
+
+    cfg = _manchester_1d(tmp_path, (4.0, 7.0, 7))
+    out = tmp_path / "m.h5"
+    assert main(["build", str(cfg), "-o", str(out)]) == 0
+    table = Table.open(out)
+    scene = Scene.from_config(load_config(cfg))
+
+    def solve(y, yaw):
+        return pose_to_record(solve_pose(scene, y, yaw, "reference"), FIELDS)
+
+    res = table_error.measure(table, solve, n_random=10)
+    y, yaw = table_error.test_poses(table.y, table.yaw, 10)
+    assert res.n_poses == y.size == 6 + 10 and res.n_failed == 0
+    q = table.interp(y, yaw, info=True)
+    lin = table.interp(y, yaw, jump_aware=False)
+    away = np.abs(q["jump_distance"]) > table_error.NEAR_M
+    for name in ("rolling_radius", "contact_angle"):
+        direct = np.array([solve(a, b)[name][:, 0] for a, b in zip(y, yaw, strict=True)])
+        for interp, vals in (("jump_aware", q), ("linear", lin)):
+            err = np.abs(vals[name][:, :, 0] - direct)[away]
+            assert res.stats[interp][name]["away"][0] == err.max()
+            assert res.stats[interp][name]["away"][1] == pytest.approx(
+                np.sqrt(np.mean(err ** 2)), rel=1e-12)
+    assert res.max_away("rolling_radius") <= 5e-6            # the must-show target
+    assert res.max_away("rolling_radius", "linear") > 1e-4    # linear blends across the jumps
+    assert table_error.cheapest([res], {"rolling_radius": 5e-6}) is res
+    assert table_error.cheapest([res], {"rolling_radius": 1e-12}) is None
