@@ -66,7 +66,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         def solve(y: float, yaw: float, method: str = method) -> dict[str, np.ndarray]:
             return pose_to_record(solver(scene, y, yaw, method), lfields)
 
-        js, n_cells = _locate(comm, grid, arrays, solve, lfields)
+        js, n_cells = _locate(comm, grid, arrays, solve, lfields, config.output.refine)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
@@ -94,16 +94,16 @@ def _share(comm: Any, items: list[Any], work: Any) -> list[Any]:
     return [r for _, r in sorted((it for part in gathered for it in part), key=lambda it: it[0])]
 
 
-def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any
-            ) -> tuple[_jumps.JumpSet, int]:
-    """Jumps (bisection over the candidate cells), then refinement of every piece interval,
-    both shared among the ranks."""
+def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
+            refine: bool) -> tuple[_jumps.JumpSet, int]:
+    """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
+    interval, both shared among the ranks."""
     cells = _jumps.candidate_cells(arrays)
     res = _share(comm, cells, lambda c: _jumps.refine_cell(arrays, grid.y, grid.yaw, c, solve))
     found = [jp for jps, _ in res for jp in jps]
     extra = [(c[0], y, r) for c, (_, samples) in zip(cells, res, strict=True) for y, r in samples]
     items = []
-    for j in range(grid.yaw.size):
+    for j in range(grid.yaw.size if refine else 0):
         knots = _jumps.column_knots(arrays, grid.y, j, found,
                                     [(y, r) for jj, y, r in extra if jj == j])
         items += [(j, knots[k], knots[k + 1]) for k in _jumps.refinement_items(knots)]

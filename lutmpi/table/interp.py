@@ -358,13 +358,14 @@ def _hermite(t, h, v0, v1, d0, d1):  # noqa: ANN001, ANN202 - numpy or scalars
 @numba.njit(cache=True)
 def _piece_eval(ky, kv, kd, mode, j, s, e, y, w, out_v, out_d, acc):  # noqa: ANN001
     """Add ``w`` times piece ``[s, e)`` of column ``j`` at ``y`` to ``out_v`` / ``out_d``
-    (``acc`` False: overwrite). Linear extension beyond the piece's end knots."""
+    (``acc`` False: overwrite). Linear extension beyond the piece's end knots. The interval's
+    basis weights are computed once and shared by every value column."""
     q = kv.shape[2]
     if e - s == 1:
         for c in range(q):
             v = kv[j, s, c]
             out_v[c] = w * v + (out_v[c] if acc else 0.0)
-            out_d[c] = 0.0 + (out_d[c] if acc else 0.0)
+            out_d[c] = out_d[c] if acc else 0.0
         return
     lo, hi = s, e - 1          # find k in [s, e-2] with ky[k] <= y < ky[k+1]
     while hi - lo > 1:
@@ -377,36 +378,40 @@ def _piece_eval(ky, kv, kd, mode, j, s, e, y, w, out_v, out_d, acc):  # noqa: AN
     y0, y1 = ky[j, k], ky[j, k + 1]
     h = y1 - y0
     t = (y - y0) / h
+    inside = 0.0 < t < 1.0
+    # cubic Hermite basis (values) and its derivative / h (slopes), shared by all columns
+    t2 = t * t
+    t3 = t2 * t
+    b00, b10 = 2 * t3 - 3 * t2 + 1, (t3 - 2 * t2 + t) * h
+    b01, b11 = -2 * t3 + 3 * t2, (t3 - t2) * h
+    g00, g10 = (6 * t2 - 6 * t) / h, 3 * t2 - 4 * t + 1
+    g01, g11 = (-6 * t2 + 6 * t) / h, 3 * t2 - 2 * t
+    near_first = t < 0.5
     for c in range(q):
         v0, v1 = kv[j, k, c], kv[j, k + 1, c]
         m = mode[c]
         if m == 2:                                      # nearest
-            v = v0 if t < 0.5 else v1
+            v = v0 if near_first else v1
             d = 0.0
-        elif t == 0.0:
+        elif t == 0.0:                                  # on a knot: its value alone
             v = v0
             d = (v1 - v0) / h if m == 0 else kd[j, k, c]
         elif t == 1.0:
             v = v1
             d = (v1 - v0) / h if m == 0 else kd[j, k + 1, c]
-        elif m == 0 or t < 0.0 or t > 1.0:
+        elif m == 0:                                    # linear (also extends the piece)
             d = (v1 - v0) / h
-            if m == 1 and t < 0.0:
-                d = kd[j, k, c]
-                v = v0 + d * (y - y0)
-            elif m == 1:
-                d = kd[j, k + 1, c]
-                v = v1 + d * (y - y1)
-            else:
-                v = v0 + t * (v1 - v0)
-        else:                                           # pchip: cubic Hermite
+            v = v0 + t * (v1 - v0)
+        elif inside:                                    # pchip: cubic Hermite
             d0, d1 = kd[j, k, c], kd[j, k + 1, c]
-            t2 = t * t
-            t3 = t2 * t
-            v = ((2 * t3 - 3 * t2 + 1) * v0 + (t3 - 2 * t2 + t) * h * d0
-                 + (-2 * t3 + 3 * t2) * v1 + (t3 - t2) * h * d1)
-            d = ((6 * t2 - 6 * t) * v0 + (3 * t2 - 4 * t + 1) * h * d0
-                 + (-6 * t2 + 6 * t) * v1 + (3 * t2 - 2 * t) * h * d1) / h
+            v = b00 * v0 + b10 * d0 + b01 * v1 + b11 * d1
+            d = g00 * v0 + g10 * d0 + g01 * v1 + g11 * d1
+        elif t < 0.0:                                   # pchip extended beyond the piece
+            d = kd[j, k, c]
+            v = v0 + d * (y - y0)
+        else:
+            d = kd[j, k + 1, c]
+            v = v1 + d * (y - y1)
         if acc:
             out_v[c] += w * v
             out_d[c] += w * d
