@@ -237,8 +237,8 @@ class _Joined:
                                                              "the end of the integration interval."
 
     def add(self, sol: Any, n_monitors: int) -> None:
-        self.t.append(sol.t)
-        self.y.append(sol.y)
+        self.t.append(np.asarray(sol.t, float).ravel())
+        self.y.append(np.asarray(sol.y, float).reshape(len(sol.y) or 5, -1))
         self.nfev += sol.nfev
         for k in range(n_monitors):
             self.t_events[k] += list(sol.t_events[k])
@@ -302,9 +302,15 @@ def _integrate(rhs: Any, provider: Any, memo: _Memo, duration: float, x0: np.nda
         k = fired[0]
         t, x = float(sol.t_events[k][-1]), np.asarray(sol.y_events[k][-1], float)
         if k == len(monitors):                       # a jump: restart on its far side
+            stalled = bool(crossings) and t <= crossings[-1] + 1e-12
             crossings.append(t)
+            if stalled:                  # no progress between two crossings: one step over it
+                sol = solve_ivp(rhs, (t, min(t + kw["max_step"] * 1e-3, duration)), x, **kw)
+                t, x = float(sol.t[-1]), sol.y[:, -1].copy()
             continue
         code = LEFT_TABLE if k == len(monitors) + 1 else ON_FAILED_POINT
+        out.t.append(np.array([t]))                  # the run ends at the located stop
+        out.y.append(x[:, None])
         return out.done(), _stop_message(code, t, x, provider), crossings
 
 
