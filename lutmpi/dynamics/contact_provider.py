@@ -27,6 +27,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any, Protocol
 
+import numba
 import numpy as np
 
 from lutmpi.equilibrium.result import SIDES
@@ -188,6 +189,65 @@ def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray
     return active.astype(float)
 
 
+#: per-contact fields the compiled post-processing reads, in its index order
+_PC_FIELDS = ("rolling_radius", "contact_angle", "curv_wheel_rolling", "curv_wheel_transverse",
+              "curv_rail_transverse", "force", "indentation")
+
+
+@numba.njit(cache=True)
+def _geometry_arrays(v, wp_i, nrm_i, pc_i):  # noqa: ANN001, ANN202
+    """From a looked-up value vector ``v``: contact points, unit normals, the per-contact fields
+    of :data:`_PC_FIELDS` (NaN -> 0), ``active`` and the load-split weights (as
+    :func:`_split_weights`: forces, else indentations, else 1 per active contact). Index arrays:
+    ``wp_i``, ``nrm_i`` (2, 2, 3), ``pc_i`` (7, 2, 2); -1 where a field is not stored."""
+    wp = np.zeros((2, 2, 3))
+    nrm = np.zeros((2, 2, 3))
+    pc = np.zeros((7, 2, 2))
+    active = np.zeros((2, 2), np.bool_)
+    for a in range(2):
+        for b in range(2):
+            ok = pc_i[0, a, b] >= 0 and np.isfinite(v[pc_i[0, a, b]])
+            norm = 0.0
+            for c in range(3):
+                x = v[wp_i[a, b, c]] if wp_i[a, b, c] >= 0 else np.nan
+                n = v[nrm_i[a, b, c]] if nrm_i[a, b, c] >= 0 else np.nan
+                ok = ok and np.isfinite(x) and np.isfinite(n)
+                wp[a, b, c] = x
+                nrm[a, b, c] = n
+                norm += n * n
+            active[a, b] = ok
+            for c in range(3):
+                if ok and norm > 0:
+                    nrm[a, b, c] /= np.sqrt(norm)
+                else:
+                    nrm[a, b, c] = 0.0
+                if not np.isfinite(wp[a, b, c]):
+                    wp[a, b, c] = 0.0
+            for f in range(7):
+                x = v[pc_i[f, a, b]] if pc_i[f, a, b] >= 0 else np.nan
+                pc[f, a, b] = x if np.isfinite(x) else 0.0
+    weights = np.zeros((2, 2))
+    for f in (5, 6):                                  # force, then indentation
+        if pc_i[f, 0, 0] < 0:
+            continue
+        good = True
+        for a in range(2):
+            total = 0.0
+            has = False
+            for b in range(2):
+                weights[a, b] = max(pc[f, a, b], 0.0) if active[a, b] else 0.0
+                total += weights[a, b]
+                has = has or active[a, b]
+            if has and not total > 0:
+                good = False
+        if good:
+            return wp, nrm, pc, active, weights
+    for a in range(2):
+        for b in range(2):
+            weights[a, b] = 1.0 if active[a, b] else 0.0
+    return wp, nrm, pc, active, weights
+
+
 class TableProvider:
     """Contact geometry from a table's compiled, jump-aware lookup.
 
@@ -221,6 +281,11 @@ class TableProvider:
                        float(ip.yaw_axis[-1]))
         self.names = [n for n in RECORD_NAMES if n in ip.layout.slots]
         self._slot = {n: ip.layout.slots[n] for n in self.names}
+        self._iz, self._ir = self._slot["z_g"][0], self._slot["roll"][0]
+        self._ix = self._slot["x_g"][0] if "x_g" in self._slot else -1
+        self._wp_i = self._index("wheel_point", (2, 2, 3))
+        self._nrm_i = self._index("normal", (2, 2, 3))
+        self._pc_i = np.stack([self._index(n, (2, 2)) for n in _PC_FIELDS])
         angles = table.get("contact_angle", self.method) if "contact_angle" in self.names else 0.0
         self.flange_angle = max(float(np.nanmax(angles, initial=0.0)),
                                 float(table.attribute("wheel_flange_angle")))
@@ -229,6 +294,20 @@ class TableProvider:
         self._tv, self._td = np.empty(q), np.empty(q)
         self._last_good: ContactGeometry | None = None
         self.calls = 0
+
+    def _index(self, name: str, shape: tuple[int, ...]) -> np.ndarray:
+        """Positions of a field's values in the looked-up vector (-1: not stored)."""
+        if name not in self._slot:
+            return np.full(shape, -1, np.int64)
+        off, suffix = self._slot[name]
+        return (off + np.arange(int(np.prod(suffix, dtype=int)))).reshape(shape).astype(np.int64)
+
+    def status(self, y: float, yaw: float) -> int:
+        """:data:`GEOMETRY_OK`, :data:`OUT_OF_TABLE` or :data:`FAILED_POINT` at a pose (the
+        lookup alone, no geometry)."""
+        if self.lookup(y, yaw)[0] & 1:
+            return OUT_OF_TABLE
+        return GEOMETRY_OK if math.isfinite(self._v[self._iz]) else FAILED_POINT
 
     def lookup(self, y: float, yaw: float) -> tuple[int, int, float]:
         """The compiled lookup alone: fills the value / slope buffers, returns ``(flags, piece,
@@ -246,12 +325,6 @@ class TableProvider:
     def piece(self, y: float, yaw: float) -> int:
         """Which side of the jumps a pose is on (-1 outside the table)."""
         return int(self.lookup(y, yaw)[1])
-
-    def _field(self, buf: np.ndarray, name: str, shape: tuple[int, ...]) -> np.ndarray:
-        if name not in self._slot:
-            return np.zeros(shape)
-        off, suffix = self._slot[name]
-        return buf[off:off + int(np.prod(suffix, dtype=int))].reshape(suffix)
 
     def evaluate(self, y: float, yaw: float) -> ContactGeometry:
         """Geometry at ``(y, yaw)``. Outside the table: the geometry at the nearest edge pose
@@ -280,39 +353,18 @@ class TableProvider:
 
     def _geometry(self, y: float, yaw: float, status: int, piece: int) -> ContactGeometry:
         v, dy, dw = self._v, self._dy, self._dw
-        pc = (2, 2)
-        wp = self._field(v, "wheel_point", pc + (3,))
-        nrm = self._field(v, "normal", pc + (3,))
-        rr = self._field(v, "rolling_radius", pc)
-        active = np.isfinite(rr) & np.isfinite(wp).all(axis=-1) & np.isfinite(nrm).all(axis=-1)
-        n = np.where(active[..., None], nrm, 0.0)
-        norm = np.sqrt(np.einsum("ijk,ijk->ij", n, n))[..., None]
-        n = np.where(norm > 0, n / np.where(norm > 0, norm, 1.0), 0.0)
-
-        def clean(name: str, shape: tuple[int, ...] = pc) -> np.ndarray:
-            a = self._field(v, name, shape)
-            return np.where(np.isfinite(a), a, 0.0)
-
-        iz, ir = self._slot["z_g"][0], self._slot["roll"][0]
-        x_g = float(v[self._slot["x_g"][0]]) if "x_g" in self._slot else 0.0
+        wp, nrm, pc, active, weights = _geometry_arrays(v, self._wp_i, self._nrm_i, self._pc_i)
+        iz, ir, ix = self._iz, self._ir, self._ix
+        x_g = float(v[ix]) if ix >= 0 else 0.0
         dz_dyaw, droll_dyaw = float(dw[iz]), float(dw[ir])
         return ContactGeometry(
             y=y, yaw=yaw, z_g=float(v[iz]), roll=float(v[ir]),
             x_g=x_g if math.isfinite(x_g) else 0.0, dz_dy=float(dy[iz]),
             dz_dyaw=dz_dyaw if math.isfinite(dz_dyaw) else 0.0, droll_dy=float(dy[ir]),
-            droll_dyaw=droll_dyaw if math.isfinite(droll_dyaw) else 0.0,
-            wheel_point=clean("wheel_point", pc + (3,)), normal=n, rolling_radius=clean(
-                "rolling_radius"), contact_angle=clean("contact_angle"),
-            curv_wheel_rolling=clean("curv_wheel_rolling"),
-            curv_wheel_transverse=clean("curv_wheel_transverse"),
-            curv_rail_transverse=clean("curv_rail_transverse"),
-            indentation=self._weights(active), active=active, status=status, piece=piece)
-
-    def _weights(self, active: np.ndarray) -> np.ndarray:
-        """:func:`_split_weights` on the looked-up values (force, else indentation, else 1)."""
-        rec = {n: self._field(self._v, n, (2, 2))[None] for n in ("force", "indentation")
-               if n in self._slot}
-        return _split_weights(rec, active)
+            droll_dyaw=droll_dyaw if math.isfinite(droll_dyaw) else 0.0, wheel_point=wp,
+            normal=nrm, rolling_radius=pc[0], contact_angle=pc[1], curv_wheel_rolling=pc[2],
+            curv_wheel_transverse=pc[3], curv_rail_transverse=pc[4], indentation=weights,
+            active=active, status=status, piece=piece)
 
 
 class OnlineProvider:

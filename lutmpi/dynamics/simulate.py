@@ -251,7 +251,7 @@ class _Joined:
         return self
 
 
-def _table_events(provider: Any, memo: _Memo, piece: int) -> list[Any]:
+def _table_events(provider: Any, piece: int) -> list[Any]:
     """Terminal events of a table run: leaving the current side of the jumps (``piece``),
     reaching the table's edge, reaching a failed point."""
     def jump(t: float, x: np.ndarray) -> float:
@@ -261,7 +261,7 @@ def _table_events(provider: Any, memo: _Memo, piece: int) -> list[Any]:
         return provider.inside(x[0], x[1])
 
     def failed(t: float, x: np.ndarray) -> float:
-        return -1.0 if memo.evaluate(x[0], x[1]).status == FAILED_POINT else 1.0
+        return -1.0 if provider.status(x[0], x[1]) == FAILED_POINT else 1.0
 
     for fn, direction in ((jump, 1.0), (edge, -1.0), (failed, -1.0)):
         fn.terminal, fn.direction = True, direction
@@ -292,7 +292,7 @@ def _integrate(rhs: Any, provider: Any, memo: _Memo, duration: float, x0: np.nda
         te = t_eval[(t_eval > t) | ((t_eval == t) & (t == 0.0))]
         if t >= duration:
             return out.done(), None, crossings
-        evs = monitors + (_table_events(provider, memo, _piece_ahead(provider, x)) if table
+        evs = monitors + (_table_events(provider, _piece_ahead(provider, x)) if table
                           else [])
         sol = solve_ivp(rhs, (t, duration), x, t_eval=te, events=evs or None, **kw)
         out.add(sol, len(monitors))
