@@ -41,6 +41,7 @@ REPO = Path(__file__).resolve().parents[1]
 
 # CI-tier test selections, by module (file paths relative to the repository root)
 T_STORED = "tests/unit/test_stored_physics.py"
+T_EQ = "tests/unit/test_equilibrium_terms.py"
 T_CLOSED = "tests/unit/test_contact_closed_form.py"
 T_MESH = "tests/unit/test_contact_mesh.py"
 T_REF = "tests/unit/test_contact_reference.py"
@@ -53,6 +54,7 @@ T_API = "tests/unit/test_table_api.py"
 T_PARITY = "tests/unit/test_table_parity.py"
 T_PART = "tests/unit/test_table_partition.py"
 T_SCHEMA = "tests/unit/test_table_schema.py"
+T_WRITER = "tests/unit/test_table_writer.py"
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
 
 
@@ -73,21 +75,20 @@ class Mutation:
 M = Mutation
 MUTATIONS: tuple[Mutation, ...] = (
     # -- contact-point methods (compiled kernels, eqs. 3-7) ------------------------------------
-    M("md_indent_sign", "contact methods", "lutmpi/contact/kernels.py",
-      "(P[i, 0] - Pj[i, 0]) * N[i, 0]", "(Pj[i, 0] - P[i, 0]) * N[i, 0]", CONTACT,
+    M("md_indent_sign", "contact methods", "lutmpi/contact/methods/max_distance.py",
+      "c = (P[i, 0] - Pj[i, 0]) * N[i, 0]", "c = (Pj[i, 0] - P[i, 0]) * N[i, 0]", CONTACT,
       "eq. (3): x term of the indentation V.N with the wrong sign"),
-    M("md_argmax_min", "contact methods", "lutmpi/contact/kernels.py",
-      "            if c > C[g]:\n                C[g] = c\n                WP[g] = P[i]",
-      "            if c > C[g] and C[g] < -1e299:\n                C[g] = c\n"
-      "                WP[g] = P[i]",
-      CONTACT, "eq. (3): C_max = first node of the volume instead of the maximum"),
-    M("mnd_newton_step", "contact methods", "lutmpi/contact/kernels.py",
+    M("md_argmax_min", "contact methods", "lutmpi/contact/methods/max_distance.py",
+      "        if c > out.C[g]:\n", "        if c > out.C[g] and out.C[g] < -1e299:\n", CONTACT,
+      "eq. (3): C_max = first node of the volume instead of the maximum"),
+    M("mnd_newton_step", "contact methods", "lutmpi/contact/methods/max_normal_distance.py",
       "            t = t - f / df", "            t = t - 0.5 * f / df", CONTACT,
       "eq. (4): half Newton steps on the wheel-normal line (rail point off the rail)"),
-    M("lc_rail_mean", "contact methods", "lutmpi/contact/kernels.py",
-      "                RP[g, a] /= NRn[g]\n", "                RP[g, a] /= NRn[g] + 1\n", CONTACT,
+    M("lc_rail_mean", "contact methods", "lutmpi/contact/methods/load_centre.py",
+      "                RP[g, a] /= out.n_rail_nodes[g]\n",
+      "                RP[g, a] /= out.n_rail_nodes[g] + 1\n", CONTACT,
       "eq. (6): rail load centre divided by n_r + 1"),
-    M("lc_indent_sign", "contact methods", "lutmpi/contact/kernels.py",
+    M("lc_indent_sign", "contact methods", "lutmpi/contact/methods/load_centre.py",
       "            (WP[g, 0] - RP[g, 0]) * nwv[0]", "            (RP[g, 0] - WP[g, 0]) * nwv[0]",
       CONTACT, "eq. (7): x term of the load-centre indentation with the wrong sign"),
     M("intersect_ineq", "contact methods", "lutmpi/contact/kernels.py",
@@ -97,16 +98,17 @@ MUTATIONS: tuple[Mutation, ...] = (
     # -- the k_c iteration and the zero-indentation extrapolation ------------------------------
     M("kc_criterion", "k_c iteration", "lutmpi/equilibrium/solver.py",
       "            if cmax <= o.allowed_indentation:",
-      "            if cmax <= 3.0 * o.allowed_indentation:", (T_STORED, T_CLOSED),
+      "            if cmax <= 3.0 * o.allowed_indentation:", (T_EQ, T_STORED, T_CLOSED),
       "eq. (9): converged at three times the allowed indentation"),
     M("kc_target", "k_c iteration", "lutmpi/equilibrium/solver.py",
-      "    target: float = 0.5  # aim", "    target: float = 5.0  # aim", (T_STORED, T_CLOSED),
+      "    target: float = 0.5  # aim", "    target: float = 5.0  # aim",
+      (T_EQ, T_STORED, T_CLOSED),
       "step 8: k_c aimed at 5x the allowed indentation"),
     M("extrap_sign", "extrapolation", "lutmpi/equilibrium/solver.py",
       "            return np.asarray(q) - np.linalg.solve(J, fc)",
-      "            return np.asarray(q) + np.linalg.solve(J, fc)", (T_STORED, T_CLOSED),
+      "            return np.asarray(q) + np.linalg.solve(J, fc)", (T_EQ, T_STORED, T_CLOSED),
       "zero-indentation extrapolation in the wrong direction"),
-    M("extrap_off", "extrapolation", "lutmpi/contact/solve.py",
+    M("extrap_off", "extrapolation", "lutmpi/contact/mesh_pose.py",
       "    if out.q_extrapolated is not None:", "    if False:", (T_STORED, T_CLOSED),
       "stored pose not extrapolated to zero indentation"),
     # -- flange stiffness (§4.5) ----------------------------------------------------------------
@@ -116,7 +118,7 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("flange_interp_reversed", "flange stiffness", "lutmpi/contact/stiffness.py",
       "[r_base, r_tip], [1.0, chi])", "[r_base, r_tip], [chi, 1.0])", (T_STORED, T_STIFF),
       "flange factor χ at the base and 1 at the tip"),
-    M("flange_side", "flange stiffness", "lutmpi/contact/solve.py",
+    M("flange_side", "flange stiffness", "lutmpi/contact/mesh_pose.py",
       "    if not st.flange or s >= 0.0:", "    if not st.flange or s >= -0.03:",
       (T_STORED, T_STIFF), "flange factor only beyond s = -30 mm"),
     M("series_sum", "flange stiffness", "lutmpi/contact/stiffness.py",
@@ -125,24 +127,24 @@ MUTATIONS: tuple[Mutation, ...] = (
     # -- equilibrium terms (eq. 1, eq. 8) -------------------------------------------------------
     M("spring_z_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
       "        rz = -o.load - o.k_el * (q[0] - self.q0[0])", "        rz = -o.load",
-      (T_STORED, T_CLOSED), "the fictitious vertical spring term dropped"),
+      (T_EQ, T_STORED, T_CLOSED), "the fictitious vertical spring term dropped"),
     M("yaw_lever_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
       "wx, wy, wz = w1 * pz, -w0 * pz, w0 * py - w1 * px",
-      "wx, wy, wz = w1 * pz, -w0 * pz, w0 * py", (T_STORED, T_CLOSED),
+      "wx, wy, wz = w1 * pz, -w0 * pz, w0 * py", (T_EQ, T_STORED, T_CLOSED),
       "the yaw term of the roll lever arm dropped"),
     M("roll_uses_lateral", "equilibrium", "lutmpi/equilibrium/solver.py",
       "                a0, a1 = nz, nz * wz ", "                a0, a1 = nz, ny * wz ",
-      (T_STORED, T_CLOSED), "roll balance with the lateral instead of the vertical force"),
+      (T_EQ, T_STORED, T_CLOSED), "roll balance with the lateral instead of the vertical force"),
     M("force_factor_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
-      "                k = kc * c.factor\n", "                k = kc\n", (T_STORED, T_CLOSED),
+      "                k = kc * c.factor\n", "                k = kc\n", (T_EQ, T_STORED, T_CLOSED),
       "eq. (8): the flange factor left out of the equilibrium forces"),
-    M("x_g_sign", "equilibrium", "lutmpi/contact/solve.py",
+    M("x_g_sign", "equilibrium", "lutmpi/contact/mesh_pose.py",
       "res.x_g = float(-F[0] / eq.k_el)", "res.x_g = float(F[0] / eq.k_el)", (T_STORED,),
       "eq. (1): x_g with the wrong sign"),
-    M("pitch_axis", "equilibrium", "lutmpi/contact/solve.py",
+    M("pitch_axis", "equilibrium", "lutmpi/contact/mesh_pose.py",
       "res.pitch = float(-M[1] / eq.k_rot)", "res.pitch = float(-M[0] / eq.k_rot)",
       (T_STORED,), "eq. (1): pitch from the roll moment"),
-    M("stored_force_unscaled", "equilibrium", "lutmpi/contact/solve.py",
+    M("stored_force_unscaled", "equilibrium", "lutmpi/contact/mesh_pose.py",
       "c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k",
       "c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, out.kc", (T_STORED,),
       "kc_contact/force stored without the flange factor"),
@@ -157,11 +159,11 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("gauge_point_max", "rail placement", "lutmpi/geometry/track.py",
       "        return float(min(cands))", "        return float(max(cands))",
       (T_TRACK, T_STORED), "gauge point: the farthest crossing instead of the nearest"),
-    M("rolling_curvature", "geometry", "lutmpi/contact/solve.py",
+    M("rolling_curvature", "geometry", "lutmpi/contact/records.py",
       "wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + dr * dr)),",
       "wheel_curv_rolling=1.0 / r,", (T_STORED,),
       "rolling curvature without Meusnier's cos(slope)"),
-    M("contact_angle_sign", "geometry", "lutmpi/contact/solve.py",
+    M("contact_angle_sign", "geometry", "lutmpi/contact/records.py",
       "contact_angle=float(np.arctan2(-side * normal[1], normal[2])),",
       "contact_angle=float(np.arctan2(side * normal[1], normal[2])),", (T_STORED,),
       "contact angle positive toward the field side"),
@@ -193,10 +195,10 @@ MUTATIONS: tuple[Mutation, ...] = (
       "out[\"n_contacts\"][i] = [len(result.contacts.get(s, [])) for s in SIDES]",
       "out[\"n_contacts\"][i] = [len(result.contacts.get(s, [])) for s in SIDES[::-1]]",
       (T_API, T_PARITY, T_STORED), "n_contacts stored [right, left]"),
-    M("writer_row_offset", "table writer", "lutmpi/table/h5io.py",
-      "                dset[iy[i], iyaw[i]] = values[i]",
-      "                dset[iy[i], iyaw[-1 - i]] = values[i]", (T_API, T_PARITY, T_STORED),
-      "partial-file writer puts a point in the wrong yaw column"),
+    M("writer_row_offset", "table writer", "lutmpi/parallel/writer.py",
+      "                        self.blocks[m][k][rows, iyaw] = v",
+      "                        self.blocks[m][k][rows, iyaw[::-1]] = v",
+      (T_API, T_PARITY, T_STORED, T_WRITER), "writer puts points in mirrored yaw columns"),
     M("reader_mask", "table reader", "lutmpi/table/api.py",
       "        source = self.data[method] if raw else self._masked[method]",
       "        source = self.data[method]", (T_API,),
@@ -315,6 +317,9 @@ def main(argv: list[str] | None = None) -> int:
         raise SystemExit(f"unknown mutation ids {sorted(unknown)}; valid: {sorted(ids)}")
     selected = [mu for mu in MUTATIONS if not a.only or mu.id in a.only]
     results = run(selected, a.timeout, a.check)
+    for r in results:
+        if r["outcome"] == "stale":
+            print(f"{r['id']:24s} stale ({r['detail']})")
     counts: dict[str, int] = {}
     for r in results:
         key = "killed" if r["outcome"].startswith("killed") else r["outcome"]

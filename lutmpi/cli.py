@@ -45,6 +45,9 @@ def main(argv: list[str] | None = None) -> int:
     except LutmpiError as exc:
         print(f"lutmpi {args.command}: error: {exc}", file=sys.stderr)
         return 128 + exc.signum if hasattr(exc, "signum") else 1
+    except KeyboardInterrupt:     # Ctrl-C outside a build's compute loop: no traceback
+        print(f"lutmpi {args.command}: interrupted", file=sys.stderr)
+        return 130
     return int(rc or 0)
 
 

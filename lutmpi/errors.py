@@ -61,3 +61,7 @@ class BuildInterruptedError(LutmpiError):
 
         self.signum = signum
         super().__init__(f"interrupted by {signal.Signals(signum).name}")
+
+
+class OutputError(LutmpiError, RuntimeError):
+    """An output path cannot be written (missing or read-only folder, not a regular file, ...)."""

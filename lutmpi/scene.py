@@ -102,6 +102,7 @@ class Scene:
             kc_max=e.max_kc_N_per_m,
             allowed_indentation=c.allowed_indentation_mm * 1e-3,
             max_iterations=e.max_iterations,
+            max_pose_time=e.max_pose_time_s,
             solver=e.solver,
             extrapolate=c.extrapolate,
         )

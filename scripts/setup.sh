@@ -96,8 +96,8 @@ s = u.find_spec("lutmpi"); sys.exit(s is None or not s.origin.startswith(sys.arg
 }
 if ! lutmpi_ok; then
   log "installing lutmpi (editable)"
-  pip_q install -q --no-build-isolation -e ".[test,fast]" >/dev/null 2>&1 \
-    || pip_q install --no-build-isolation -e ".[test,fast]" \
+  pip_q install -q --no-build-isolation -e ".[test]" >/dev/null 2>&1 \
+    || pip_q install --no-build-isolation -e ".[test]" \
     || die "editable install of lutmpi failed"
   touch "$stamp"
 fi
@@ -113,3 +113,7 @@ if not h5py.get_config().mpi:
 print(f"[setup] ok: h5py {h5py.__version__} (mpi, HDF5 {h5py.version.hdf5_version}), "
       f"mpi4py {mpi4py.__version__}, python {sys.version.split()[0]}")
 EOF
+
+# --- 7. Compiled kernels ready: numba's on-disk cache filled now (~15-30 s on a cold cache, under
+# a second when warm), so a first build does not compile ----------------------------------------
+"$VPY" -m lutmpi.contact.warmup || die "compiling the numba kernels failed (see above)"

@@ -6,30 +6,24 @@ never initialises MPI.
 
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
 
 import pytest
 
+from lutmpi.parallel.mpi import launched_rank_size
 from lutmpi.paths import REPO_ROOT
 from lutmpi.paths import shared_dir as _shared_dir
 
 
 def mpi_world_size() -> int:
     """Size of the MPI job this process belongs to, from the launcher's environment (1 if none)."""
-    for key in ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE"):
-        if key in os.environ:
-            return int(os.environ[key])
-    return 1
+    return (launched_rank_size() or (0, 1))[1]
 
 
 def mpi_world_rank() -> int:
     """Rank of this process, from the launcher's environment (0 if not under mpirun)."""
-    for key in ("OMPI_COMM_WORLD_RANK", "PMI_RANK"):
-        if key in os.environ:
-            return int(os.environ[key])
-    return 0
+    return (launched_rank_size() or (0, 1))[0]
 
 
 @pytest.fixture(scope="session")

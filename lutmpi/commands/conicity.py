@@ -62,8 +62,12 @@ def read_dr_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 
 def run(args: argparse.Namespace) -> int:
     from lutmpi.errors import ConfigError
+    from lutmpi.outpath import check_output_file
     from lutmpi.reports.conicity import HoleError, check_dr, conicity_curve, parse_amplitudes
 
+    for path, what in ((args.output, "CSV output"), (args.plot, "plot")):
+        if path is not None:
+            check_output_file(path, what)      # before the work (issue 13)
     r0_mm = args.r0_mm
     try:
         amps = parse_amplitudes(args.amplitudes)

@@ -37,6 +37,7 @@ def run(args: argparse.Namespace) -> int:
         linear_parameters,
         nonlinear_critical_speed,
     )
+    from lutmpi.dynamics.stability import format_rate
 
     args.output = None
     provider, params, source = make_provider(args)
@@ -56,10 +57,16 @@ def run(args: argparse.Namespace) -> int:
         out["nonlinear"] = {"speed": nl.speed, "stable_below": nl.stable_below,
                             "hunting_above": nl.hunting_above, "converged": nl.converged,
                             "runs": nl.runs}
-        diff = (nl.speed / v_j - 1.0) * 100 if nl.converged else float("nan")
-        print(f"{source}: nonlinear critical speed {nl.speed:.3f} m/s in "
-              f"[{nl.stable_below:.3f}, {nl.hunting_above:.3f}] ({len(nl.runs)} runs; "
-              f"{diff:+.1f} % vs linearised)")
+        runs = ", ".join(f"{v:.4g} m/s {kind} ({format_rate(rate)})" for v, kind, rate in nl.runs)
+        if nl.converged:
+            diff = (nl.speed / v_j - 1.0) * 100
+            print(f"{source}: nonlinear critical speed {nl.speed:.3f} m/s in "
+                  f"[{nl.stable_below:.3f}, {nl.hunting_above:.3f}] ({len(nl.runs)} runs; "
+                  f"{diff:+.1f} % vs linearised)")
+        else:
+            print(f"{source}: nonlinear critical speed not bracketed (needs a stable run at "
+                  f"{nl.stable_below:.4g} and a hunting one at {nl.hunting_above:.4g} m/s; "
+                  f"an undetermined run stops the bisection): {runs}")
     if args.json:
         print(json.dumps(out, default=float, indent=1))
     return 0

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from lutmpi.equilibrium.result import SIDES
+from lutmpi.table.schema import D
 
 COMPONENTS = ("x", "y", "z")
 
@@ -59,28 +60,58 @@ def plot(table: Any, quantity: str, output: str, method: str | None = None, side
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from lutmpi.reports.pair import pair_info
+    from lutmpi.reports.units import edge_unit
+    from lutmpi.table.schema import FIELDS_BY_NAME
+
     z, label = select(table, quantity, method, side, slot, component)
-    yy, aa = np.meshgrid(table.y * 1e3, table.yaw, indexing="ij")
-    fig = plt.figure(figsize=(11, 4.5))
+    case = pair_info(table.config_toml).title
+    fld = FIELDS_BY_NAME.get(quantity)
+    if fld is not None and fld.dtype == "i1":          # codes and counts: categories, not a scale
+        _categories(table, quantity, z, label, case, output)
+        return
+    unit, factor, _ = edge_unit(table.units(quantity, method))
+    z = z * factor
+    label = label.rsplit(" [", 1)[0] + f" [{unit}]"
+    yy, aa = np.meshgrid(table.y * 1e3, np.degrees(table.yaw), indexing="ij")
+    fig = plt.figure(figsize=(12, 5.0))
+    fig.suptitle(case, fontsize=10)
     ax = fig.add_subplot(1, 2, 1, projection="3d")
     ax.plot_surface(yy, aa, z, cmap="viridis", linewidth=0.2, edgecolor="k")
-    ax.set_xlabel("y_g [mm]")
-    ax.set_ylabel("yaw [rad]")
+    ax.set_xlabel("y_g [mm]", labelpad=8)
+    ax.set_ylabel("yaw [deg]", labelpad=8)
+    ax.set_zlabel(unit, labelpad=10)
+    ax.tick_params(labelsize=7, pad=2)
     ax.set_title(label, fontsize=9)
     ax2 = fig.add_subplot(1, 2, 2)
     mesh = ax2.pcolormesh(yy, aa, z, shading="nearest", cmap="viridis")
     fig.colorbar(mesh, ax=ax2, label=label)
     ax2.set_xlabel("y_g [mm]")
-    ax2.set_ylabel("yaw [rad]")
+    ax2.set_ylabel("yaw [deg]")
     ax2.set_title(f"{method or table.methods[0]} ({np.isnan(z).sum()} NaN points)", fontsize=9)
     fig.tight_layout()
     fig.savefig(output, dpi=120)
     plt.close(fig)
 
 
+def _categories(table: Any, quantity: str, codes: np.ndarray, label: str, case: str,
+                output: str) -> None:
+    """Status codes and contact counts as a categorical map (one colour per value, a legend)."""
+    from pathlib import Path
+
+    from lutmpi.reports import geometry_plots as gp
+
+    codes = np.asarray(codes).astype(int)
+    names = gp.status_names() if quantity == D.status else \
+        {int(c): f"{int(c)} contact(s)" for c in np.unique(codes)}
+    gp.category_map(table.y, table.yaw, codes, names, label, case, Path(output))
+
+
 def run(args: argparse.Namespace) -> int:
+    from lutmpi.outpath import check_output_file
     from lutmpi.table import Table
 
+    check_output_file(args.output, "figure")
     plot(Table.open(args.table), args.quantity, args.output, args.method, args.side, args.slot,
          args.component)
     return 0

@@ -4,11 +4,9 @@ compare column by column), plus the side of the jumps and the distance to the ne
 
 from __future__ import annotations
 
-import csv
 import logging
 import sys
-import time
-from typing import Any, TextIO
+from typing import Any
 
 import numpy as np
 
@@ -25,8 +23,9 @@ def register(subparsers: Any) -> None:
         "query", help="interpolate a table at given poses (CSV, the columns of `solve`)",
         description="Interpolate a lookup table at poses (y_g in mm, yaw in rad), never across a "
                     "located contact jump, and write one CSV row per pose with the columns and "
-                    "units of `lutmpi solve`, plus out_of_range (1: outside the grid, values "
-                    "empty), jump_side (number of jumps below the pose at its yaw; a pose "
+                    "units of `lutmpi solve` (every stored quantity, mm and deg), plus "
+                    "out_of_range (1: outside the grid, values empty), jump_side (number of "
+                    "jumps below the pose at its yaw; a pose "
                     "exactly at a jump is on its upper side) and jump_distance_mm (signed "
                     "distance to the nearest jump). Exit status 1 when any pose is outside.")
     p.add_argument("table", help="lookup table (HDF5)")
@@ -39,59 +38,33 @@ def register(subparsers: Any) -> None:
 
 
 def query_rows(table: Any, poses: list[tuple[float, float]], method: str | None = None
-               ) -> list[dict[str, object]]:
-    """Rows (mm, rad) of ``lutmpi solve``'s CSV plus :data:`EXTRA_COLUMNS` for poses (m, rad)."""
-    from lutmpi.equilibrium.result import SIDES, STATUS
+               ) -> tuple[list[str], list[list[Any]]]:
+    """Header and rows of ``lutmpi solve``'s CSV (``y_mm, yaw_rad, method, message``, the
+    schema's columns in mm/deg, ``status_text``) plus :data:`EXTRA_COLUMNS`, for poses (m, rad).
+    """
+    from lutmpi.equilibrium.result import STATUS
+    from lutmpi.export.csv_format import record_cells, status_text
+    from lutmpi.table.schema import D
 
     method = method or table.methods[0]
     y = np.array([p[0] for p in poses], float)
     yaw = np.array([p[1] for p in poses], float)
-    table.interpolator(method)            # built once; its set-up is not the query's cost
-    t0 = time.perf_counter()
     q = table.interp(y, yaw, method, outside="flag", info=True)
-    per_pose_ms = (time.perf_counter() - t0) / max(len(poses), 1) * 1e3
-    nan = float("nan")
-
-    def get(name: str, k: int, *index: int) -> float:
-        return float(q[name][(k,) + index]) if name in q else nan
-
+    names = [n for n in table.quantities if n in q]
+    header: list[str] = []
     rows = []
     for k in range(len(poses)):
-        status = int(q["status"][k])
-        row: dict[str, object] = {
-            "y_mm": y[k] * 1e3, "yaw_rad": yaw[k], "method": method, "status": status,
-            "message": "outside the table grid" if q["out_of_range"][k] else
-            STATUS.get(status, str(status)), "iterations": int(q["iterations"][k]),
-            "z_g_mm": get("z_g", k) * 1e3, "roll_rad": get("roll", k),
-            "x_g_mm": get("x_g", k) * 1e3, "pitch_rad": get("pitch", k),
-            "kc_N_per_m": get("kc", k), "cpu_ms": per_pose_ms}
-        for s, side in enumerate(SIDES):
-            row[f"{side}_n_contacts"] = int(q["n_contacts"][k, s]) if "n_contacts" in q else -1
-            row[f"{side}_wheel_s_mm"] = get("wheel_s", k, s, 0) * 1e3
-            row[f"{side}_contact_angle_rad"] = get("contact_angle", k, s, 0)
-            row[f"{side}_rolling_radius_mm"] = get("rolling_radius", k, s, 0) * 1e3
-            row[f"{side}_x_mm"] = get("wheel_point", k, s, 0, 0) * 1e3
-            row[f"{side}_rail_v_mm"] = get("rail_v", k, s, 0) * 1e3
-            row[f"{side}_indentation_mm"] = get("indentation", k, s, 0) * 1e3
-        row["out_of_range"] = int(q["out_of_range"][k])
-        row["jump_side"] = int(q["jump_side"][k])
-        row["jump_distance_mm"] = float(q["jump_distance"][k]) * 1e3
-        rows.append(row)
-    return rows
-
-
-def write_rows(out: str | TextIO, rows: list[dict[str, object]]) -> None:
-    """CSV: the columns of ``lutmpi solve`` then :data:`EXTRA_COLUMNS`."""
-    from lutmpi.contact.poses import COLUMNS
-
-    if isinstance(out, str):
-        with open(out, "w", newline="") as fh:
-            write_rows(fh, rows)
-        return
-    w = csv.DictWriter(out, fieldnames=list(COLUMNS) + list(EXTRA_COLUMNS))
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()})
+        record = {n: q[n][k] for n in names}
+        cols, values = record_cells(record)
+        code = int(q[D.status][k])
+        outside = bool(q["out_of_range"][k])
+        message = "outside the table grid" if outside else STATUS.get(code, str(code))
+        header = (["y_mm", "yaw_rad", "method", "message"] + cols + ["status_text"]
+                  + list(EXTRA_COLUMNS))
+        rows.append([y[k] * 1e3, yaw[k], method, message] + values
+                    + ["outside" if outside else status_text(code), int(outside),
+                       int(q["jump_side"][k]), float(q["jump_distance"][k]) * 1e3])
+    return header, rows
 
 
 def run(args: Any) -> int:
@@ -102,15 +75,21 @@ def run(args: Any) -> int:
     poses += [(y * 1e-3, yaw) for y, yaw in args.pose]
     if not poses:
         raise ConfigError("no poses: give --poses FILE.csv or --pose Y_MM YAW_RAD")
+    from lutmpi.export.csv_format import write_rows
+
     table = Table.open(args.table)
-    rows = query_rows(table, poses, args.method)
-    write_rows(sys.stdout if args.output == "-" else args.output, rows)
-    outside = [r for r in rows if r["out_of_range"]]
+    header, rows = query_rows(table, poses, args.method)
+    if args.output == "-":
+        write_rows(sys.stdout, header, rows)
+    else:
+        with open(args.output, "w", newline="") as fh:
+            write_rows(fh, header, rows)
+    flag = header.index("out_of_range")
+    outside = [r for r in rows if r[flag]]
     if outside:
-        r = outside[0]
         log.error("%d of %d poses outside the table grid (first: y = %.4f mm, yaw = %.5f rad); "
-                  "their rows are flagged out_of_range = 1", len(outside), len(rows), r["y_mm"],
-                  r["yaw_rad"])
+                  "their rows are flagged out_of_range = 1", len(outside), len(rows),
+                  outside[0][0], outside[0][1])
         return 1
     log.info("%d poses interpolated", len(rows))
     return 0

@@ -48,6 +48,9 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from lutmpi.outpath import check_output_dir
+
+    check_output_dir(args.output, "report folder")
     if args.table_error is not None:
         return _table_error(args)
     if Path(args.outdir).is_file():

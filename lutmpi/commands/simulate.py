@@ -104,7 +104,9 @@ def write_run(path: str | Path, run: Any, source: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from lutmpi.dynamics.simulate import simulate
+    from lutmpi.outpath import check_output_file
 
+    check_output_file(args.output, "simulation output")
     provider, params, source = make_provider(args)
     res = simulate(provider, params, args.speed, args.duration, vy0=args.vy0,
                    method=args.integrator)

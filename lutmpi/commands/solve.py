@@ -17,7 +17,9 @@ def register(subparsers: Any) -> None:
     p = subparsers.add_parser(
         "solve", help="solve single wheelset poses (serial)",
         description="Solve the contact of the wheelset at given poses (y_g in mm, yaw in rad) "
-                    "and write one CSV row per pose (column names carry units).")
+                    "and write one CSV row per pose: the pose, the method and its message, then "
+                    "every stored quantity of a table (the schema's columns, as `lutmpi export "
+                    "--format csv` writes them: mm, deg, both wheels, both contacts).")
     p.add_argument("config", help="run configuration (TOML)")
     p.add_argument("--poses", help="CSV file with columns y_mm,yaw_rad")
     p.add_argument("--pose", nargs=2, action="append", metavar=("Y_MM", "YAW_RAD"), type=float,
@@ -29,7 +31,7 @@ def register(subparsers: Any) -> None:
 
 def run(args: Any) -> int:
     from lutmpi.config import load_config
-    from lutmpi.contact.poses import read_poses, write_results
+    from lutmpi.contact.poses import read_poses
     from lutmpi.contact.solve import solve_pose
     from lutmpi.scene import Scene
 
@@ -43,7 +45,29 @@ def run(args: Any) -> int:
     failed = [r for r in results if not r.success]
     for r in failed:
         log.warning("pose y=%.3f mm yaw=%.4f rad: %s", r.y * 1e3, r.yaw, r.message)
-    write_results(sys.stdout if args.output == "-" else args.output, results)
+    if args.output == "-":
+        write_results(sys.stdout, results)
+    else:
+        with open(args.output, "w", newline="") as fh:
+            write_results(fh, results)
     log.info("%d poses solved, %d not converged", len(results), len(failed))
     return 0
 
+
+
+def write_results(fh: Any, results: list[Any]) -> None:
+    """One CSV row per pose: ``y_mm, yaw_rad, method, message``, the schema's columns (mm, deg;
+    :func:`lutmpi.export.csv_format.record_cells`), ``status_text``."""
+    from lutmpi.export.csv_format import record_cells, status_text, write_rows
+    from lutmpi.table.compute import pose_to_record
+    from lutmpi.table.schema import FIELDS, D
+
+    header: list[str] = []
+    rows = []
+    for r in results:
+        record = pose_to_record(r, FIELDS)
+        cols, values = record_cells(record)
+        header = ["y_mm", "yaw_rad", "method", "message"] + cols + ["status_text"]
+        rows.append([r.y * 1e3, r.yaw, r.method, r.message] + values
+                    + [status_text(record[D.status])])
+    write_rows(fh, header, rows)

@@ -115,6 +115,7 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "equilibrium.initial_kc_N_per_m": _positive(),
     "equilibrium.max_kc_N_per_m": _positive(),
     "equilibrium.max_iterations": ((lambda v: 1 <= v <= 100_000), "an integer in [1, 100000]"),
+    "equilibrium.max_pose_time_s": ((lambda v: 0 < v <= 1e6), "a number of seconds in (0, 1e6]"),
     "equilibrium.solver": _one_of(EQUILIBRIUM_SOLVERS),
     "material.young_GPa": _open_closed(0.0, 1000.0),
     "material.poisson": ((lambda v: 0.0 < v < 0.5), "a number in (0, 0.5)"),

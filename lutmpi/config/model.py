@@ -106,7 +106,8 @@ class EquilibriumConfig:
     vertical_load_N: float = 1.0e5  # noqa: N815 -- load on the centre of mass (paper §6)
     initial_kc_N_per_m: float = 1.0e10  # noqa: N815 -- k_c at step 2
     max_kc_N_per_m: float = 1.0e16  # noqa: N815 (unit in the name)
-    max_iterations: int = 60               # k_c levels x Newton steps budget
+    max_iterations: int = 2000             # hard budget of contact evaluations per pose
+    max_pose_time_s: float = 60.0          # wall-time budget of one pose's equilibrium, s
     # "newton" (line search + bracketing fallback) or "fixed_point"
     solver: str = "newton"
 

@@ -23,7 +23,11 @@ from lutmpi.contact.kernels import (
     window_rail_nodes,
     window_wheel_nodes,
 )
+from lutmpi.errors import GeometryError
 from lutmpi.geometry.track import PlacedRail, WheelGeometry
+
+#: the most wheel nodes a contact window may hold (~100 bytes each with the rail nodes facing them)
+MAX_WINDOW_NODES = 20_000_000
 
 
 def _arc_grid(x: np.ndarray, z: np.ndarray, x_anchor: float, h: float) -> np.ndarray:
@@ -196,6 +200,13 @@ def build_window(
         half_arc = np.sqrt(2.0 * (wmesh.r[ks] / 0.2) * depth) + 2.0 * wmesh.h_circ
     mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
     mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
+    n_nodes = int(np.sum(2 * mh + 1))
+    if n_nodes > MAX_WINDOW_NODES:     # e.g. 0.001 mm meshes: a clear error, not a MemoryError
+        raise GeometryError(
+            f"the contact window would hold {n_nodes:.3g} wheel nodes (~{n_nodes * 100 / 1e9:.0f} "
+            f"GB), more than {MAX_WINDOW_NODES:.0e}: mesh spacings {wmesh.h_lat * 1e3:g} mm "
+            f"across x {wmesh.h_circ * 1e3:g} mm around the wheel are too fine; coarsen [mesh] "
+            "(defaults 0.25 x 0.5 mm)")
     rail = rmesh.rail
     k, m, pts, nrm, tp = window_wheel_nodes(
         side, ks.astype(np.int64), mc.astype(np.int64), mh.astype(np.int64), wmesh.s, wmesh.r,

@@ -5,15 +5,26 @@ contact stage, and the pose result. Shared by every :class:`~lutmpi.contact.meth
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.mesh import Window, build_window
-from lutmpi.contact.records import SIDE_SIGN, contact_record
+from lutmpi.contact.records import SIDE_SIGN, contact_records
 from lutmpi.contact.stiffness import flange_kc_scale
-from lutmpi.equilibrium.result import STATUS, WINDOW, PoseResult
+from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET, WINDOW, PoseResult
 from lutmpi.equilibrium.solver import ContactForce, Equilibrium
-from lutmpi.geometry.pose import wheelset_rotation
+
+
+def rotation(yaw: float, roll: float) -> np.ndarray:
+    """``R = Rz(yaw) Rx(roll)`` in closed form: the same bits as
+    :func:`lutmpi.geometry.pose.wheelset_rotation` with zero pitch (``+ 0.0`` turns the signed
+    zeros of the products into the matrix product's; tested), at a fifth of its cost."""
+    cy, sy, cr, sr = np.cos(yaw), np.sin(yaw), np.cos(roll), np.sin(roll)
+    return np.array([[cy, -sy * cr + 0.0, sy * sr + 0.0],
+                     [sy + 0.0, cy * cr, -cy * sr + 0.0],
+                     [0.0, sr + 0.0, cr]])
 
 
 def flange_factor(scene, s: float) -> float:
@@ -36,7 +47,7 @@ def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> di
     """The window of each wheel at the rigid pose, ``depth`` (m) deep."""
     wm, rm = scene.wheel_mesh, scene.rail_mesh
     centre = np.array([0.0, rigid.y, rigid.z_g])
-    R = wheelset_rotation(rigid.yaw, rigid.roll)
+    R = rotation(rigid.yaw, rigid.roll)
     out = {}
     for name, side in SIDE_SIGN.items():
         # the locus at the rigid pose, sampled every 0.1 mm, interpolated at the mesh slices
@@ -54,8 +65,13 @@ def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> di
 
 
 def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResult:
-    """The pose result of mesh method ``method`` from the rigid contact ``rigid``."""
+    """The pose result of mesh method ``method`` from the rigid contact ``rigid``.
+
+    The equilibrium's budgets hold for the whole pose: a window widened and solved again continues
+    the evaluation count and keeps the deadline (``eq.max_pose_time`` from here)."""
     eq = scene.equilibrium
+    deadline = time.perf_counter() + eq.max_pose_time
+    nit = 0
     f_min = min(
         (flange_factor(scene, c.s) for cs in rigid.contacts.values() for c in cs), default=1.0
     )
@@ -76,8 +92,13 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResu
             fmin=f_min,
             rate=method.indentation_rate,
             nz_min=n_z,
+            nit=nit,
+            deadline=deadline,
         )
         out = solver.solve()
+        nit = out.nit
+        if out.status in (MAX_ITER, TIME_BUDGET):
+            break
         # how far the wheels moved vertically at their contacts: the nodes left out of the
         # window had a rigid gap above ``depth``, so none of them can be in contact unless a
         # wheel moved that far
@@ -99,7 +120,7 @@ def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
 
     def evaluate(q: np.ndarray) -> dict[str, list[ContactForce]]:
         centre = np.array([0.0, rigid.y, q[0]])
-        R = wheelset_rotation(rigid.yaw, q[1])
+        R = rotation(rigid.yaw, q[1])
         out = {}
         for name, win in wins.items():
             cs = method.contacts(win, wm, rm, centre, R, mc)
@@ -128,6 +149,7 @@ def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResu
         z, roll = float(out.q_extrapolated[0]), float(out.q_extrapolated[1])
     F = np.zeros(3)
     M = np.zeros(3)
+    rows = []
     res = PoseResult(
         y=rigid.y,
         yaw=rigid.yaw,
@@ -147,12 +169,13 @@ def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResu
             k = out.kc * cf.factor
             f = k * cf.indentation * cf.normal
             F += f
-            M += np.cross(cf.point - G, f)
-            res.contacts[name].append(
-                contact_record(
-                    scene, side, c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k
-                )
-            )
+            r = cf.point - G
+            M += (r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0])
+            rows.append((side, c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k))
+    records = iter(contact_records(scene, rows))
+    for name in SIDE_SIGN:
+        for _ in out.contacts.get(name, []):
+            res.contacts[name].append(next(records))
     res.x_g = float(-F[0] / eq.k_el)  # eq. (1): the x spring carries the longitudinal force
     res.pitch = float(-M[1] / eq.k_rot)  # eq. (1): the pitch spring carries M_y
     return res

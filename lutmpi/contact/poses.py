@@ -1,21 +1,13 @@
-"""Reading pose lists and writing pose results as CSV (the I/O edge of ``lutmpi solve``):
-mm in files, SI inside."""
+"""Reading pose lists (the input edge of ``lutmpi solve``): mm in files, SI inside. The results
+are written by ``lutmpi.commands.solve`` with the schema's columns."""
 
 from __future__ import annotations
 
 import csv
 import math
 from pathlib import Path
-from typing import TextIO
 
-from lutmpi.equilibrium.result import SIDES, PoseResult
 from lutmpi.errors import ConfigError
-
-SIDE_COLUMNS = ("n_contacts", "wheel_s_mm", "contact_angle_rad", "rolling_radius_mm", "x_mm",
-                "rail_v_mm", "indentation_mm")
-COLUMNS = (("y_mm", "yaw_rad", "method", "status", "message", "iterations", "z_g_mm", "roll_rad",
-            "x_g_mm", "pitch_rad", "kc_N_per_m", "cpu_ms")
-           + tuple(f"{s}_{c}" for s in SIDES for c in SIDE_COLUMNS))
 
 
 def read_poses(path: str | Path) -> list[tuple[float, float]]:
@@ -51,40 +43,3 @@ def read_poses(path: str | Path) -> list[tuple[float, float]]:
     if not out:
         raise ConfigError("the file has a header but no poses", path=path)
     return out
-
-
-def result_row(res: PoseResult) -> dict[str, object]:
-    """One CSV row (mm, rad) for a pose result; the primary contact is the most loaded one
-    (slot 0 of a table, :func:`lutmpi.table.compute.slot_order`)."""
-    from lutmpi.table.compute import slot_order
-
-    row: dict[str, object] = {
-        "y_mm": res.y * 1e3, "yaw_rad": res.yaw, "method": res.method, "status": res.status,
-        "message": res.message, "iterations": res.nit, "z_g_mm": res.z_g * 1e3,
-        "roll_rad": res.roll, "x_g_mm": res.x_g * 1e3, "pitch_rad": res.pitch,
-        "kc_N_per_m": res.kc, "cpu_ms": res.time * 1e3}
-    for side in SIDES:
-        cs = res.contacts[side]
-        row[f"{side}_n_contacts"] = len(cs)
-        c = slot_order(cs)[0] if cs else None     # the table's slot 0 (compare with `query`)
-        nan = float("nan")
-        row[f"{side}_wheel_s_mm"] = c.wheel_s * 1e3 if c else nan
-        row[f"{side}_contact_angle_rad"] = c.contact_angle if c else nan
-        row[f"{side}_rolling_radius_mm"] = c.rolling_radius * 1e3 if c else nan
-        row[f"{side}_x_mm"] = c.wheel_point[0] * 1e3 if c else nan
-        row[f"{side}_rail_v_mm"] = c.rail_v * 1e3 if c else nan
-        row[f"{side}_indentation_mm"] = c.indentation * 1e3 if c else nan
-    return row
-
-
-def write_results(out: str | Path | TextIO, results: list[PoseResult]) -> None:
-    """CSV with one row per pose to a path or an open text stream; column names carry units."""
-    if isinstance(out, (str, Path)):
-        with open(out, "w", newline="") as fh:
-            write_results(fh, results)
-        return
-    w = csv.DictWriter(out, fieldnames=list(COLUMNS))
-    w.writeheader()
-    for r in results:
-        w.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v)
-                    for k, v in result_row(r).items()})

@@ -41,3 +41,39 @@ def contact_record(
         wheel_curv_transverse=float(wheel.convex_curvature(s)),
         rail_curv_transverse=float(rail.convex_curvature(np.clip(u_r, rail.u_min, rail.u_max))),
     )
+
+
+def contact_records(scene, rows: list[tuple]) -> list[ContactResult]:
+    """:func:`contact_record` for several contacts at once (one spline evaluation per quantity
+    for all of them; the same numbers): ``rows`` of ``(side, wheel_point, rail_point, normal, C,
+    s, kc)``."""
+    if not rows:
+        return []
+    wheel, rail = scene.wheel, scene.rail
+    side = np.array([r[0] for r in rows])
+    rp = np.array([r[2] for r in rows])
+    s = np.array([float(r[5]) for r in rows])
+    u_r = side * rp[:, 1]
+    dr, rad = wheel.dr(s), wheel.radius(s)
+    v = rail.profile_coordinate(u_r, rp[:, 2])
+    cw = wheel.convex_curvature(s)
+    cr = rail.convex_curvature(np.clip(u_r, rail.u_min, rail.u_max))
+    out = []
+    for i, (sd, wp, rpi, n, C, si, kc) in enumerate(rows):
+        r, d = float(rad[i]), float(dr[i])
+        out.append(ContactResult(
+            wheel_point=np.asarray(wp, float),
+            rail_point=np.asarray(rpi, float),
+            normal=np.asarray(n, float),
+            indentation=float(C),
+            kc=float(kc),
+            force=float(kc * C) if np.isfinite(kc) else float("nan"),
+            rolling_radius=r,
+            contact_angle=float(np.arctan2(-sd * n[1], n[2])),
+            wheel_s=float(si),
+            rail_v=float(v[i]),
+            wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + d * d)),
+            wheel_curv_transverse=float(cw[i]),
+            rail_curv_transverse=float(cr[i]),
+        ))
+    return out

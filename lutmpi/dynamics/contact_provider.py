@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from lutmpi.equilibrium.result import SIDES
-from lutmpi.table.schema import FIELDS
+from lutmpi.table.schema import FIELDS, D
 
 #: :attr:`ContactGeometry.status`: the pose is inside the table and converged
 GEOMETRY_OK = 0
@@ -121,7 +121,7 @@ class ContactGeometry:
 #: :class:`ContactGeometry` attributes, plus ``force`` (the split of a double contact's load);
 #: derived from :data:`lutmpi.table.schema.FIELDS`, the only list of names
 RECORD_NAMES = tuple(f.name for f in FIELDS if f.dtype.startswith("f") and (
-    f.name in ContactGeometry.__dataclass_fields__ or f.name == "force"))
+    f.name in ContactGeometry.__dataclass_fields__ or f.name == D.force))
 
 
 class ContactProvider(Protocol):
@@ -149,18 +149,18 @@ def geometry_from_records(y: float, yaw: float, rec: dict[str, np.ndarray], h_y:
     h_y, h_yaw : float
         The steps, m and rad (may be negative).
     """
-    z, roll = np.asarray(rec["z_g"], float), np.asarray(rec["roll"], float)
-    wp = np.asarray(rec["wheel_point"], float)[0]
-    nrm = np.asarray(rec["normal"], float)[0]
-    rr = np.asarray(rec["rolling_radius"], float)[0]
-    ind = np.asarray(rec["indentation"], float)[0]
+    z, roll = np.asarray(rec[D.z_g], float), np.asarray(rec[D.roll], float)
+    wp = np.asarray(rec[D.wheel_point], float)[0]
+    nrm = np.asarray(rec[D.normal], float)[0]
+    rr = np.asarray(rec[D.rolling_radius], float)[0]
+    ind = np.asarray(rec[D.indentation], float)[0]
     active = (np.isfinite(wp).all(axis=-1) & np.isfinite(nrm).all(axis=-1) & np.isfinite(rr)
               & np.isfinite(ind))
 
     def clean(a: np.ndarray, fill: float = 0.0) -> np.ndarray:
         return np.where(np.isfinite(a), a, fill)
 
-    x_g = float(rec["x_g"][0]) if "x_g" in rec and np.isfinite(rec["x_g"][0]) else 0.0
+    x_g = float(rec[D.x_g][0]) if D.x_g in rec and np.isfinite(rec[D.x_g][0]) else 0.0
     n = clean(nrm)
     norm = np.linalg.norm(n, axis=-1, keepdims=True)
     n = np.where(norm > 0, n / np.where(norm > 0, norm, 1.0), 0.0)  # re-normalise after interp
@@ -169,10 +169,10 @@ def geometry_from_records(y: float, yaw: float, rec: dict[str, np.ndarray], h_y:
         dz_dy=float((z[1] - z[0]) / h_y), dz_dyaw=float((z[2] - z[0]) / h_yaw),
         droll_dy=float((roll[1] - roll[0]) / h_y), droll_dyaw=float((roll[2] - roll[0]) / h_yaw),
         wheel_point=clean(wp), normal=n, rolling_radius=clean(rr),
-        contact_angle=clean(np.asarray(rec["contact_angle"], float)[0]),
-        curv_wheel_rolling=clean(np.asarray(rec["curv_wheel_rolling"], float)[0]),
-        curv_wheel_transverse=clean(np.asarray(rec["curv_wheel_transverse"], float)[0]),
-        curv_rail_transverse=clean(np.asarray(rec["curv_rail_transverse"], float)[0]),
+        contact_angle=clean(np.asarray(rec[D.contact_angle], float)[0]),
+        curv_wheel_rolling=clean(np.asarray(rec[D.curv_wheel_rolling], float)[0]),
+        curv_wheel_transverse=clean(np.asarray(rec[D.curv_wheel_transverse], float)[0]),
+        curv_rail_transverse=clean(np.asarray(rec[D.curv_rail_transverse], float)[0]),
         indentation=_split_weights(rec, active), active=active)
 
 
@@ -180,7 +180,7 @@ def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray
     """Weights that split a wheel's load between its contacts: the pose solve's normal forces
     (``force``) when stored, else the indentations (both are proportional to the contact force in
     the solve; a rigid ``reference`` solve has zero indentation but its forces)."""
-    for name in ("force", "indentation"):
+    for name in (D.force, D.indentation):
         if name in rec:
             w = np.asarray(rec[name], float)[0]
             w = np.where(active & np.isfinite(w), np.maximum(w, 0.0), 0.0)
@@ -190,8 +190,8 @@ def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray
 
 
 #: per-contact fields the compiled post-processing reads, in its index order
-_PC_FIELDS = ("rolling_radius", "contact_angle", "curv_wheel_rolling", "curv_wheel_transverse",
-              "curv_rail_transverse", "force", "indentation")
+_PC_FIELDS = (D.rolling_radius, D.contact_angle, D.curv_wheel_rolling, D.curv_wheel_transverse,
+              D.curv_rail_transverse, D.force, D.indentation)
 
 
 @numba.njit(cache=True)
@@ -281,12 +281,12 @@ class TableProvider:
                        float(ip.yaw_axis[-1]))
         self.names = [n for n in RECORD_NAMES if n in ip.layout.slots]
         self._slot = {n: ip.layout.slots[n] for n in self.names}
-        self._iz, self._ir = self._slot["z_g"][0], self._slot["roll"][0]
-        self._ix = self._slot["x_g"][0] if "x_g" in self._slot else -1
-        self._wp_i = self._index("wheel_point", (2, 2, 3))
-        self._nrm_i = self._index("normal", (2, 2, 3))
+        self._iz, self._ir = self._slot[D.z_g][0], self._slot[D.roll][0]
+        self._ix = self._slot[D.x_g][0] if D.x_g in self._slot else -1
+        self._wp_i = self._index(D.wheel_point, (2, 2, 3))
+        self._nrm_i = self._index(D.normal, (2, 2, 3))
         self._pc_i = np.stack([self._index(n, (2, 2)) for n in _PC_FIELDS])
-        angles = table.get("contact_angle", self.method) if "contact_angle" in self.names else 0.0
+        angles = table.get(D.contact_angle, self.method) if D.contact_angle in self.names else 0.0
         self.flange_angle = max(float(np.nanmax(angles, initial=0.0)),
                                 float(table.attribute("wheel_flange_angle")))
         q = ip.kv.shape[2]
@@ -340,7 +340,7 @@ class TableProvider:
             flags, piece, _ = self.lookup(min(max(y, y0), y1), min(max(yaw, a0), a1))
             status = OUT_OF_TABLE
         v = self._v
-        z_g = float(v[self._slot["z_g"][0]])
+        z_g = float(v[self._slot[D.z_g][0]])
         if not math.isfinite(z_g):
             if self._last_good is None:
                 raise ValueError(f"table point at y = {y * 1e3:.4f} mm, yaw = {yaw:.5f} rad "
@@ -475,13 +475,13 @@ class ConedWheelProvider:
             return out
 
         cos_d = math.cos(math.atan(lam)) if self.gravitational else 1.0
-        return {"z_g": np.float64(r0), "roll": np.float64(roll), "x_g": np.float64(0.0),
-                "wheel_point": wp, "normal": nrm, "indentation": slot0(np.ones(2)),
-                "rolling_radius": slot0(r), "contact_angle": slot0(gamma),
-                "force": slot0(np.ones(2)),
-                "curv_wheel_rolling": slot0(cos_d / r),
-                "curv_wheel_transverse": slot0(np.zeros(2)),
-                "curv_rail_transverse": slot0(np.full(2, 1.0 / self.rail_crown_radius))}
+        return {D.z_g: np.float64(r0), D.roll: np.float64(roll), D.x_g: np.float64(0.0),
+                D.wheel_point: wp, D.normal: nrm, D.indentation: slot0(np.ones(2)),
+                D.rolling_radius: slot0(r), D.contact_angle: slot0(gamma),
+                D.force: slot0(np.ones(2)),
+                D.curv_wheel_rolling: slot0(cos_d / r),
+                D.curv_wheel_transverse: slot0(np.zeros(2)),
+                D.curv_rail_transverse: slot0(np.full(2, 1.0 / self.rail_crown_radius))}
 
     def evaluate(self, y: float, yaw: float) -> ContactGeometry:
         """Closed-form geometry at ``(y, yaw)``."""

@@ -9,15 +9,17 @@ import numpy as np
 # status code -> text; stored as an attribute of every table's ``status`` dataset
 STATUS = {
     0: "converged",
-    1: "max_iterations: k_c iteration did not reach the allowed indentation",
+    1: "max_iterations: the iteration budget (equilibrium.max_iterations) ran out",
     2: "no_contact: a wheel found no contact within the mesh window",
     3: "kc_limit: k_c reached its upper limit before the indentation was allowed",
     4: "equilibrium_failed: the equilibrium solve did not converge at some k_c",
     5: "window_too_small: the intersecting volume touched the mesh window edge",
     6: "not_computed",
     7: "error: an exception was raised while solving this point",
+    8: "time_budget: the pose's wall-time budget (equilibrium.max_pose_time_s) ran out",
 }
-CONVERGED, MAX_ITER, NO_CONTACT, KC_LIMIT, EQ_FAILED, WINDOW, NOT_COMPUTED, ERROR = range(8)
+(CONVERGED, MAX_ITER, NO_CONTACT, KC_LIMIT, EQ_FAILED, WINDOW, NOT_COMPUTED, ERROR,
+ TIME_BUDGET) = range(9)
 SIDES = ("left", "right")
 
 

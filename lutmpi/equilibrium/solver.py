@@ -26,6 +26,8 @@ the fallback whenever Newton stalls — the mesh indentation is only piecewise s
 
 from __future__ import annotations
 
+import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -39,6 +41,7 @@ from lutmpi.equilibrium.result import (
     MAX_ITER,
     NO_CONTACT,
     STATUS,
+    TIME_BUDGET,
 )
 
 
@@ -52,7 +55,8 @@ class EquilibriumOptions:
     kc0: float = 1.0e10
     kc_max: float = 1.0e16
     allowed_indentation: float = 1.0e-5
-    max_iterations: int = 60
+    max_iterations: int = 2000  # hard budget of contact evaluations (stored iteration count)
+    max_pose_time: float = 60.0  # s, wall-time budget of one pose's equilibrium (inf: none)
     solver: str = "newton"
     rtol: float = 1.0e-7  # residual tolerance relative to the load
     qtol: float = 1.0e-7  # pose tolerance: Newton step / bracket width (m; rad x lever)
@@ -88,6 +92,16 @@ class EquilibriumResult:
 
 
 Evaluate = Callable[[np.ndarray], dict[str, list[ContactForce]]]
+
+
+class BudgetExceededError(Exception):
+    """Raised inside a solve when the iteration or wall-time budget runs out;
+    :meth:`Equilibrium.solve` turns it into a result with status ``MAX_ITER`` or
+    ``TIME_BUDGET``."""
+
+    def __init__(self, status: int):
+        super().__init__(STATUS[status])
+        self.status = status
 
 
 def _expand(f: Callable[[float], float], lo: float, hi: float,
@@ -132,13 +146,17 @@ class Equilibrium:
         fmin: float = 1.0,
         rate: float = 1.0,
         nz_min: float = 1.0,
+        nit: int = 0,
+        deadline: float = math.inf,
     ):
         self.evaluate, self.y, self.yaw = evaluate, y, yaw
         self.q0 = np.asarray(q0, dtype=float)
         self.opts = opts
         self.lever = lever
         self.axis = np.array([np.cos(yaw), np.sin(yaw), 0.0])
-        self.nit = 0
+        self.nit = nit  # contact evaluations so far (a retry continues the count)
+        self.deadline = deadline  # time.perf_counter() value the solve must end by
+        self._last: tuple | None = None  # (q, R, contacts) of the last evaluation
         self.fmin = fmin
         self.rate = rate  # the method's indentation rate: where the first guess starts
         self.nz_min = nz_min  # smallest vertical normal component of the rigid contacts
@@ -153,9 +171,23 @@ class Equilibrium:
         """``rated=False`` is Newton's Jacobian: rates are moved halfway to 1, so Newton
         under-steps a little for the load-centre contacts (rate 1/2) and approaches the root
         from one side, which is what a residual that jumps needs; the extrapolation uses the
-        rated Jacobian."""
+        rated Jacobian.
+
+        Raises :class:`BudgetExceededError` instead of evaluating beyond ``opts.max_iterations``
+        evaluations or past ``deadline``."""
+        if self.nit >= self.opts.max_iterations:
+            raise BudgetExceededError(MAX_ITER)
+        if time.perf_counter() > self.deadline:
+            raise BudgetExceededError(TIME_BUDGET)
         self.nit += 1
         contacts = self.evaluate(q)
+        R, J, fc = self._assemble(q, kc, contacts, rated)
+        self._last = (q, R, contacts)
+        return R, J, contacts, fc
+
+    def _assemble(self, q: np.ndarray, kc: float, contacts: dict, rated: bool):
+        """Residual (2,), Jacobian (2, 2) and contact part of the residual (2,) at ``q`` from the
+        contacts evaluated there."""
         o = self.opts
         w0, w1 = self.axis[0], self.axis[1]
         rz = -o.load - o.k_el * (q[0] - self.q0[0])
@@ -181,7 +213,7 @@ class Equilibrium:
                 j11 += kr * a1 * b1
         R = np.array([rz + fz, rr + fr])
         J = np.array([[-j00 - o.k_el, -j01], [-j10, -j11 - o.k_rot]])
-        return R, J, contacts, np.array([fz, fr])
+        return R, J, np.array([fz, fr])
 
     def scaled(self, R: np.ndarray) -> np.ndarray:
         return R / np.array([self.opts.load, self.opts.load * self.lever])
@@ -304,6 +336,21 @@ class Equilibrium:
 
     # -- the k_c iteration (steps 2-8 of §4.3) -----------------------------------------------------
     def solve(self) -> EquilibriumResult:
+        """Steps 2-8 of §4.3 (:meth:`_solve`) within the budgets: when the evaluations
+        (``opts.max_iterations``) or the time (``deadline``) run out, the result is the last
+        evaluated pose with status ``MAX_ITER`` or ``TIME_BUDGET``."""
+        self._kc = self.opts.kc0
+        try:
+            return self._solve()
+        except BudgetExceededError as exc:
+            if self._last is None:
+                q, R, cs = self.q0, np.full(2, np.nan), {}
+            else:
+                q, R, cs = self._last
+            cmax = max((c.indentation for side in cs.values() for c in side), default=np.nan)
+            return self._result(np.asarray(q, float), False, exc.status, self._kc, cmax, cs, R)
+
+    def _solve(self) -> EquilibriumResult:
         """Steps 2-8 of §4.3: solve at k_c, raise k_c until every indentation is allowed.
 
         When the initial k_c is far stiffer than the allowed indentation needs (k_c/k_el up to
@@ -325,6 +372,7 @@ class Equilibrium:
         q = self.q0 - np.array([0.5 * o.load / (k * self.rate), 0.0])
         good = None
         while True:
+            self._kc = k
             qk, ok, R, cs = self.solve_at(q, k)
             if not (ok and all(cs.values())):
                 break
@@ -344,6 +392,7 @@ class Equilibrium:
     def _criterion_loop(self, q: np.ndarray, kc: float, first=None) -> EquilibriumResult:
         o = self.opts
         for _ in range(o.max_iterations):
+            self._kc = kc
             q, ok, R, cs = first if first is not None else self.solve_at(q, kc)
             first = None
             cmax = max((c.indentation for side in cs.values() for c in side), default=0.0)
@@ -354,7 +403,7 @@ class Equilibrium:
             if cmax <= o.allowed_indentation:
                 out = self._result(q, True, CONVERGED, kc, cmax, cs, R)
                 if o.extrapolate:
-                    out.q_extrapolated = self.extrapolate(q, kc)
+                    out.q_extrapolated = self.extrapolate(q, kc, cs)
                 return out
             # step 8: raise k_c; aim the indentation at a fraction of the allowed one
             kc *= float(np.clip(cmax / (o.target * o.allowed_indentation), 2.0, 1e3))
@@ -362,12 +411,13 @@ class Equilibrium:
                 return self._result(q, False, KC_LIMIT, kc, cmax, cs, R)
         return self._result(q, False, MAX_ITER, kc, cmax, cs, R)
 
-    def extrapolate(self, q: np.ndarray, kc: float) -> np.ndarray:
+    def extrapolate(self, q: np.ndarray, kc: float, contacts: dict) -> np.ndarray:
         """Pose at zero indentation. With the penalty solution ``q(k) = q* + a/k`` (linear in
         the indentation, contact geometry fixed), ``q* = q + k dq/dk`` and, from
         ``R(q(k), k) = 0``, ``k dq/dk = -J^-1 F_c`` with ``F_c`` the contact part of the
-        residual: one linear solve at the converged state, no further contact evaluation."""
-        _, J, _, fc = self._residual(q, kc)
+        residual: one linear solve at the converged state from its ``contacts`` (evaluated at
+        ``q``), no further contact evaluation."""
+        _, J, fc = self._assemble(q, kc, contacts, rated=True)
         try:
             return np.asarray(q) - np.linalg.solve(J, fc)
         except np.linalg.LinAlgError:

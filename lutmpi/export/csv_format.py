@@ -12,14 +12,16 @@ starting with ``#`` give the table, method, yaw, case and the status codes.
 from __future__ import annotations
 
 import csv
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
 import numpy as np
 
 from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import ConfigError
 from lutmpi.reports.units import all_columns, edge_unit
+from lutmpi.table.schema import D
 
 NAME = "csv"
 DESCRIPTION = "1-D functions of y at one yaw (both wheels, both contacts), mm and deg"
@@ -35,24 +37,44 @@ def yaw_index(table: Any, yaw: float) -> int:
     return j
 
 
+def record_cells(record: Mapping[str, np.ndarray]) -> tuple[list[str], list[Any]]:
+    """Column names and values of one per-point record (``field name -> array of the field's
+    suffix shape``, SI): every schema field present, in mm/deg (:mod:`lutmpi.reports.units`)."""
+    header: list[str] = []
+    values: list[Any] = []
+    for f, col, idx in all_columns(list(record)):
+        v = np.asarray(record[f.name])[idx]
+        header.append(col)
+        values.append(float(v) * edge_unit(f.units)[1] if np.dtype(f.dtype).kind == "f"
+                      else int(v))
+    return header, values
+
+
+def status_text(code: int) -> str:
+    """``converged``, ``max_iterations``, ... for a status code."""
+    return STATUS.get(int(code), str(code)).split(":")[0]
+
+
 def rows(table: Any, j: int, method: str | None = None) -> tuple[list[str], list[list[Any]]]:
     """Header and rows of the 1-D functions at yaw index ``j`` (masked: NaN where not converged)."""
-    stored = table.quantities
-    cols = [(f, c, i) for f, c, i in all_columns(stored)]
-    header = ["y_mm"] + [c for _, c, _ in cols] + ["status_text"]
-    status = table.get("status", method, raw=True)[:, j]
+    names = table.quantities
+    header: list[str] = []
     out = []
     for iy, y in enumerate(table.y):
-        row: list[Any] = [y * 1e3]
-        for f, _, idx in cols:
-            v = table.get(f.name, method)[(iy, j) + idx]
-            if np.dtype(f.dtype).kind == "f":
-                row.append(float(v) * edge_unit(f.units)[1])
-            else:
-                row.append(int(v))
-        row.append(STATUS.get(int(status[iy]), str(status[iy])).split(":")[0])
-        out.append(row)
-    return header, out
+        record = {n: table.get(n, method)[iy, j] for n in names}
+        header, values = record_cells(record)
+        status = table.get(D.status, method, raw=True)[iy, j]
+        out.append([y * 1e3] + values + [status_text(status)])
+    return ["y_mm"] + header + ["status_text"], out
+
+
+def write_rows(fh: TextIO, header: list[str], data: list[list[Any]]) -> None:
+    """CSV rows: NaN as an empty cell, floats with 10 significant digits."""
+    w = csv.writer(fh)
+    w.writerow(header)
+    for row in data:
+        w.writerow(["" if isinstance(v, float) and np.isnan(v) else
+                    (f"{v:.10g}" if isinstance(v, float) else v) for v in row])
 
 
 def write(table: Any, out: Path, *, yaw: float = 0.0, method: str | None = None,
@@ -68,11 +90,6 @@ def write(table: Any, out: Path, *, yaw: float = 0.0, method: str | None = None,
     with open(out, "w", newline="") as fh:
         fh.write(f"# lutmpi table {table.path}, method {method}, yaw {table.yaw[j]:.6g} rad\n")
         fh.write(f"# {pair_info(table.config_toml).title}\n")
-        fh.write("# status codes: " + "; ".join(f"{k} {v.split(':')[0]}"
-                                                for k, v in STATUS.items()) + "\n")
-        w = csv.writer(fh)
-        w.writerow(header)
-        for row in data:
-            w.writerow(["" if isinstance(v, float) and np.isnan(v) else
-                        (f"{v:.10g}" if isinstance(v, float) else v) for v in row])
+        fh.write("# status codes: " + "; ".join(f"{k} {status_text(k)}" for k in STATUS) + "\n")
+        write_rows(fh, header, data)
     return [out]

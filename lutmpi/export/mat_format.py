@@ -39,6 +39,9 @@ def content(table: Any) -> dict[str, Any]:
     for method in table.methods:
         group = table.data[method]
         out[_check_name(method)] = {_check_name(k): np.asarray(v) for k, v in group.items()}
+        stored_jumps = _jumps(table, method)
+        if stored_jumps:
+            out[method]["jumps"] = stored_jumps
         meta = table.meta[method]
         units[method] = {k: str(meta.get(k, {}).get("units", "")) for k in group}
         desc[method] = {k: str(meta.get(k, {}).get("description", "")) for k in group}
@@ -48,6 +51,23 @@ def content(table: Any) -> dict[str, Any]:
     out["attrs"] = {_check_name(k): (v if isinstance(v, str) else json.dumps(v, default=str))
                     for k, v in table.attrs.items()}
     return out
+
+
+def _jumps(table: Any, method: str) -> dict[str, Any]:
+    """The located contact jumps of ``method`` as the HDF5 group ``/<method>/jumps`` holds them:
+    its datasets, and its sub-groups (one-sided limits, knots) as structs (empty: none stored).
+
+    ``Table.jumps[method]`` (issue 11) is ``{"arrays": {...}, "<sub-group>": {...}, "attrs": ...}``.
+    """
+    stored = (getattr(table, "jumps", None) or {}).get(method)
+    if not stored:
+        return {}
+    node: dict[str, Any] = {_check_name(k): np.asarray(v)
+                            for k, v in stored.get("arrays", {}).items()}
+    for key, sub in stored.items():
+        if key not in ("arrays", "attrs") and isinstance(sub, dict):
+            node[_check_name(key)] = {_check_name(k): np.asarray(v) for k, v in sub.items()}
+    return node
 
 
 def write(table: Any, out: Path, **_: Any) -> list[Path]:

@@ -2,9 +2,12 @@
 
 Two splits are used by the table build:
 
-* the **compute split** deals the points still to do over the ranks. Measured per-point costs of
-  the solver (``benchmarks/table_build.py``, BENCHMARKS.md) are not smooth: most points cost
-  0.1-2 s but a few cost ~100x more, and they come in mirror pairs (y, yaw) / (-y, -yaw). A plain
+* the **compute split** deals the points still to do over the ranks (the default build hands them
+  out dynamically instead, :mod:`lutmpi.parallel.workqueue`; these static splits remain
+  selectable). Measured per-point costs of the solver (``benchmarks/table_build.py``,
+  BENCHMARKS.md) are not smooth: most points cost a few ms, flange rows ~3x the tread rows and a
+  few poses next to a contact jump 10-30x the median, and they come in mirror pairs
+  (y, yaw) / (-y, -yaw). A plain
   cyclic deal of the row-major flat index puts both points of every mirror pair on the same rank
   when the grid has an odd number of points and 2 ranks (k and N-1-k have the same parity), the
   worst case; blocks depend on where the costly rows fall. The default, **scattered**, deals a

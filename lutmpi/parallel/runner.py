@@ -72,6 +72,7 @@ class BuildSummary:
     wall_time_s: float
     busy_s: list[float] = field(default_factory=list)
     ranks: int = 1
+    journal_s: float = 0.0          # writing + syncing the journal, summed over ranks
 
     @property
     def parallel_efficiency(self) -> float:
@@ -230,13 +231,15 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
                         _batches(comm, todo, split), len(todo))
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
     busy_all = np.asarray(comm.bcast(comm.gather(busy, root=0), root=0), dtype=float)
-    jsec = comm.gather(writer.journal_seconds, root=0)
+    journal_s = float(comm.allreduce(writer.journal_seconds))
     writer.finish({"wall_time_s": wall, "rank_busy_s": busy_all}, after_grid=functools.partial(
         add_jumps, comm, grid, config, prep["scene"], solver, methods, writer.fields))  # issue 11
     if comm.rank == 0:
         log.info("journal: %.3f s of writing and syncing over all ranks (%.2f %% of busy time)",
-                 sum(jsec), 100 * sum(jsec) / max(float(busy_all.sum()), 1e-12))
-    return _summarize(comm, writer, busy_all, len(todo), wall)
+                 journal_s, 100 * journal_s / max(float(busy_all.sum()), 1e-12))
+    summary = _summarize(comm, writer, busy_all, len(todo), wall)
+    summary.journal_s = journal_s
+    return summary
 
 
 def _batches(comm: Any, todo: np.ndarray, how: str) -> Iterator[tuple[np.ndarray, int]]:

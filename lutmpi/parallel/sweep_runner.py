@@ -227,13 +227,15 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
         A bad sweep file, on every rank, before anything runs.
     """
     from lutmpi.config.sweep import expand_sweep
+    from lutmpi.outpath import check_output_dir
     from lutmpi.parallel.runner import build_table, make_scene
     from lutmpi.table.compute import default_solver
 
     comm = SelfComm() if comm is None else comm
-    members = expand_sweep(sweep)                      # pure: same list on every rank
     out = Path(outdir)
-    root_decides(comm, lambda: out.mkdir(parents=True, exist_ok=True))
+    root_decides(comm, lambda: check_output_dir(out, "sweep output folder"))  # before any work
+    members = expand_sweep(sweep)                      # pure: same list on every rank
+    root_decides(comm, lambda: _make_outdir(out))
     cache = SceneCache(scene_factory or make_scene)
     records: list[MemberRecord] = []
     summary = SweepSummary(out, records)
@@ -277,6 +279,15 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
         root_decides(comm, lambda: write_index(out, records))
     log.info("sweep done: %d members: %s", len(records), _status_counts(records))
     return summary
+
+
+def _make_outdir(out: Path) -> None:
+    from lutmpi.errors import OutputError
+
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"cannot create the sweep output folder {out}: {exc}") from exc
 
 
 def _status_counts(records: Sequence[MemberRecord]) -> str:

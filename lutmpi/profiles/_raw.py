@@ -17,6 +17,8 @@ import numpy as np
 from lutmpi.errors import ProfileError
 
 _SPLIT = re.compile(r"[\s,;]+")
+# "12,5  3,25" or "12,5;3,25": two numbers written with decimal commas (issue 13)
+_COMMA_DECIMALS = re.compile(r"^\s*[-+]?\d+,\d+\s*[\s;]\s*[-+]?\d+,\d+(\s|;|$)")
 
 
 @dataclass
@@ -92,6 +94,10 @@ def parse_point(text: str, path: str, line: int) -> tuple[float, float]:
     ProfileError
         Fewer than two leading numbers (non-numeric value), or NaN / inf.
     """
+    if _COMMA_DECIMALS.match(text):
+        raise ProfileError(f"decimal commas in {text.strip()!r}: lutmpi reads '.' as the decimal "
+                           "separator (and ',' or ';' between columns); convert the file, e.g. "
+                           "12.5;3.25", path=path, line=line)
     toks = [t for t in _SPLIT.split(text.strip()) if t]
     if len(toks) < 2:
         raise ProfileError(f"expected two numbers 'y z', got {text.strip()!r}", path=path,

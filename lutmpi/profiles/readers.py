@@ -91,6 +91,7 @@ def _read_text(path: Path) -> str:
         raise ProfileError(f"cannot read profile file: {exc.strerror}", path=str(path)) from None
     if b"\x00" in data[:4096]:
         raise ProfileError("binary file, not a text profile", path=str(path))
+    data = data.removeprefix(b"\xef\xbb\xbf")   # a UTF-8 BOM would hide the first line's number
     return data.decode("latin-1")          # headers of Windows tools are not always UTF-8
 
 

@@ -160,9 +160,12 @@ def _walk(y: np.ndarray, start: int, step: int, direction: float,
     while 0 <= i < y.size:
         if stop is not None and stop[i]:
             break
-        if direction * (y[i] - last) > Y_EPS_MM:
+        ahead = direction * (y[i] - last)
+        if ahead > Y_EPS_MM:
             kept.append(i)
             last = y[i]
+        elif ahead > 0 and direction * (y[i] - y[i - step]) > 0:
+            pass        # still moving on, closer than Y_EPS_MM: dense data thinned, not shadowed
         else:
             shadowed.append(i)
         i += step
@@ -243,6 +246,31 @@ def auto_smoothing(y_m: np.ndarray) -> float:
     return 1.0 / (h * w_c ** 4)
 
 
+#: an isolated point further than this (mm) off the chord of its neighbours, with both sides
+#: steeper than 45 deg in opposite directions, is a spike (a typo, a glitch of the gauge), not shape
+SPIKE_MM = 1.0
+
+
+def check_spikes(y: np.ndarray, z: np.ndarray, lines: np.ndarray, path: str) -> None:
+    """Refuse a single-point spike (issue 13): it would become a contact bump in every table.
+
+    ``y``, ``z`` in mm, sorted by ``y`` (the trimmed profile); the line of the first spike is named.
+    """
+    if y.size < 3:
+        return
+    up, down = z[1:-1] - z[:-2], z[2:] - z[1:-1]
+    h_left, h_right = y[1:-1] - y[:-2], y[2:] - y[1:-1]
+    chord = z[:-2] + (z[2:] - z[:-2]) * h_left / (y[2:] - y[:-2])
+    dev = z[1:-1] - chord
+    bad = np.flatnonzero((np.abs(dev) > SPIKE_MM) & (np.sign(up) == -np.sign(down))
+                         & (np.abs(up) > h_left) & (np.abs(down) > h_right))
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise _fail(path, f"point ({y[i]:g}, {z[i]:g}) mm is a single-point spike, "
+                          f"{abs(dev[i - 1]):.3g} mm off the line through its neighbours: a typo "
+                          "or a measurement glitch? Fix or remove it", int(lines[i]))
+
+
 def build_profile(raw: RawProfile, path: str, kind: str | None, name: str,
                   smoothing: float | None = None, cant_rad: float | None = None) -> Profile:
     """Run checks 1-6 and return the :class:`Profile` (SI units)."""
@@ -251,6 +279,7 @@ def build_profile(raw: RawProfile, path: str, kind: str | None, name: str,
     k = resolve_kind(raw, path, kind)
     check_extent(raw, path, k)
     idx, info = trim_to_function(raw, path, k)
+    check_spikes(raw.y_mm[idx], raw.z_mm[idx], raw.lines[idx], path)
     y = raw.y_mm[idx] * 1e-3
     z = raw.z_mm[idx] * 1e-3
     if y.size < 4:

@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from lutmpi.table.schema import D
+
 #: a contact point moving more than this along the wheel profile between neighbouring poses, m
 JUMP_THRESHOLD = 3e-3
 
@@ -62,11 +64,11 @@ def break_mask(table: Any, method: str | None, j: int) -> np.ndarray:
     y = np.asarray(table.y)
     names = set(table.quantities)
     mask = stored(table, method, j, y)
-    if "wheel_s" in names:
-        mask |= detect(get("wheel_s"), get("n_contacts") if "n_contacts" in names else None,
-                       get("status"))
+    if D.wheel_s in names:
+        mask |= detect(get(D.wheel_s), get(D.n_contacts) if D.n_contacts in names else None,
+                       get(D.status))
     else:
-        mask |= np.diff(get("status")) != 0
+        mask |= np.diff(get(D.status)) != 0
     return mask
 
 

@@ -57,6 +57,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, optimize
 
+from lutmpi.table.schema import D
+
 __all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
            "dr_from_table", "check_dr", "DrCheck", "HoleError"]
 
@@ -305,12 +307,12 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
     if abs(yaw[j]) > 1e-12:
         raise ValueError(f"no yaw = 0 column in the grid (closest {yaw[j]:.3g} rad): "
                          "equivalent conicity needs the wheelset at zero yaw")
-    if "rolling_radius" not in group:
-        raise ValueError(f"method {name!r}: the table holds no rolling_radius")
-    rr = np.asarray(group["rolling_radius"], dtype=float)[:, j, :, 0]
+    if D.rolling_radius not in group:
+        raise ValueError(f"method {name!r}: the table holds no {D.rolling_radius}")
+    rr = np.asarray(group[D.rolling_radius], dtype=float)[:, j, :, 0]
     dr = rr[:, 0] - rr[:, 1]
-    if "status" in group:
-        dr = np.where(np.asarray(group["status"])[:, j] == 0, dr, np.nan)
+    if D.status in group:
+        dr = np.where(np.asarray(group[D.status])[:, j] == 0, dr, np.nan)
     return y, dr
 
 
@@ -383,13 +385,16 @@ def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
             f"amplitudes below {np.abs(inside).min() * 1e3:g} mm or rebuild those poses")
     reach = min(-float(y[0]), float(y[-1]))
     nearest = float(np.abs(holes).min()) if holes.size else math.inf
+    # never join across a hole: integrate only the run of values around y = 0
+    keep = np.isfinite(dr) & (np.abs(y) < nearest)
+    usable = min(-float(y[keep].min()), float(y[keep].max())) if keep.any() else 0.0
     if inside.size:
         warnings.append(f"Δr missing at y = {_mm_list(inside)} mm (failed poses): amplitudes "
-                        f">= {nearest * 1e3:g} mm not computed")
+                        f"above {usable * 1e3:g} mm not computed")
     elif holes.size:
         warnings.append(f"Δr missing at y = {_mm_list(holes)} mm (failed poses), outside the "
                         "amplitudes used")
-    beyond = amps[amps > min(reach, nearest) + 1e-12]
+    beyond = amps[amps > usable + 1e-12]
     off_table = amps[amps > reach + 1e-12]
     if off_table.size:
         warnings.append(f"amplitudes {_mm_list(off_table, span=True)} mm: beyond the table's "
@@ -397,8 +402,6 @@ def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
     if dy > MAX_DY * (1 + 1e-9):
         warnings.append(f"y step {dy * 1e3:g} mm is coarser than 0.1 mm (EN 15302's benchmark "
                         "data): the conicity of a non-linear Δr(y) carries that discretisation")
-    # never join across a hole: integrate only the run of values around y = 0
-    keep = np.isfinite(dr) & (np.abs(y) < nearest)
     return DrCheck(y[keep], dr[keep], holes, beyond, dy, warnings)
 
 

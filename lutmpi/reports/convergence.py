@@ -19,19 +19,21 @@ from typing import Any
 
 import numpy as np
 
+from lutmpi.table.schema import D
+
 __all__ = ["QUANTITIES", "MemberTable", "MemberMetrics", "ErrorStat", "error_maps",
            "compare", "observed_order", "mesh_spacing_of", "convergence_study"]
 
 #: quantity -> (unit shown in reports, scale from SI to that unit)
 QUANTITIES: dict[str, tuple[str, float]] = {
-    "z_g": ("mm", 1e3),
-    "roll": ("mrad", 1e3),
-    "wheel_s": ("mm", 1e3),
-    "rail_v": ("mm", 1e3),
-    "contact_angle": ("mrad", 1e3),
-    "normal": ("mrad", 1e3),
+    D.z_g: ("mm", 1e3),
+    D.roll: ("mrad", 1e3),
+    D.wheel_s: ("mm", 1e3),
+    D.rail_v: ("mm", 1e3),
+    D.contact_angle: ("mrad", 1e3),
+    D.normal: ("mrad", 1e3),
 }
-_PER_POINT = ("z_g", "roll")
+_PER_POINT = (D.z_g, D.roll)
 CONVERGED = 0
 
 
@@ -124,13 +126,13 @@ def error_maps(member: Mapping[str, np.ndarray], ref: Mapping[str, np.ndarray]
         slot 0) for per-contact ones; NaN where a point is excluded (not converged in either
         table, or no contact in either).
     """
-    ok = (np.asarray(member["status"]) == CONVERGED) & (np.asarray(ref["status"]) == CONVERGED)
+    ok = (np.asarray(member[D.status]) == CONVERGED) & (np.asarray(ref[D.status]) == CONVERGED)
     out: dict[str, np.ndarray] = {}
     for q in QUANTITIES:
-        if q == "normal":
-            if "normal" not in member or "normal" not in ref:
+        if q == D.normal:
+            if D.normal not in member or D.normal not in ref:
                 continue
-            err = _normal_angle(member["normal"][:, :, :, 0, :], ref["normal"][:, :, :, 0, :])
+            err = _normal_angle(member[D.normal][:, :, :, 0, :], ref[D.normal][:, :, :, 0, :])
         elif q in member and q in ref:
             a, b = np.asarray(member[q], float), np.asarray(ref[q], float)
             if q not in _PER_POINT:
@@ -165,8 +167,8 @@ def compare(member: MemberTable, ref: MemberTable) -> MemberMetrics:
         if a.shape != b.shape or not np.allclose(a, b, rtol=0, atol=1e-12):
             raise ValueError(f"{member.id} and reference {ref.id} are not on the same {axis} grid")
     g = member.group
-    status = np.asarray(g["status"])
-    cpu = float(np.nansum(g["compute_time"])) if "compute_time" in g else math.nan
+    status = np.asarray(g[D.status])
+    cpu = float(np.nansum(g[D.compute_time])) if D.compute_time in g else math.nan
     attrs = member.table.get("attrs", {})
     metrics = MemberMetrics(
         id=member.id, method=member.method, spacing=member.spacing, points=int(status.size),

@@ -16,7 +16,7 @@ from lutmpi.dynamics.simulate import SimulationResult  # noqa: E402
 _PANELS = (
     ("y", "transverse displacement of the centre of mass (Fig. 11)", "y [mm]", 1e3),
     ("yaw", "yaw angle (Fig. 12)", "yaw [mrad]", 1e3),
-    ("roll", "roll angle (Fig. 13)", "roll [mrad]", 1e3),
+    ("roll", "roll angle (Fig. 13)", "roll [mrad]", 1e3),  # not a dataset: a run's series
     ("fy", "lateral tangential force per wheel (Fig. 14)", "F_y [kN]", 1e-3),
 )
 
@@ -24,7 +24,7 @@ _PANELS = (
 def _series(run: SimulationResult, key: str):
     if key == "fy":
         return [(run.lateral_creep_force[:, 0], "left"), (run.lateral_creep_force[:, 1], "right")]
-    return [({"y": run.y, "yaw": run.yaw, "roll": run.roll}[key], None)]
+    return [(getattr(run, key), None)]
 
 
 #: the start-up transient left out of the axis scaling: this fraction of the run, at least 0.2 s

@@ -121,15 +121,19 @@ def conicity(amplitude: np.ndarray, tan_ge: np.ndarray, case: str, path: Path,
     return _save(fig, path)
 
 
-def lead_vs_yaw(yaw: np.ndarray, leads: Mapping[str, np.ndarray], case: str, path: Path) -> Path:
+def lead_vs_yaw(yaw: np.ndarray, leads: Mapping[str, np.ndarray], case: str, path: Path,
+                masks: Mapping[str, np.ndarray] | None = None) -> Path:
     """Longitudinal position of the main contact (the contact lead) against yaw, both wheels,
-    one line per chosen y: ``leads[label] = x (nyaw, 2 sides)``, m."""
+    one line per chosen y: ``leads[label] = x (nyaw, 2 sides)``, m; ``masks[label]`` marks the
+    yaw intervals with a contact jump, where the line breaks."""
     fig, ax = _axes("Contact lead (x of the main contact) against yaw", case, "yaw [deg]",
                     "contact x [mm] (+ ahead of the axle)")
     for k, (label, x) in enumerate(leads.items()):
+        mask = (masks or {}).get(label, np.zeros(max(yaw.size - 1, 0), bool))
         for i, side in enumerate(SIDES):
-            ax.plot(yaw * DEG, np.asarray(x)[:, i] * 1e3, "-" if side == "left" else "--",
-                    color=f"C{k}", lw=1.1, label=f"{label}, {side}")
+            xs, vs = broken(yaw * DEG, np.asarray(x)[:, i] * 1e3, mask)
+            ax.plot(xs, vs, "-" if side == "left" else "--", color=f"C{k}", lw=1.1,
+                    label=f"{label}, {side}")
     ax.legend(fontsize=6, ncol=2)
     return _save(fig, path)
 

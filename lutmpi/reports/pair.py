@@ -63,3 +63,26 @@ def pair_info(config_toml: str) -> PairInfo:
         back_to_back_mm=float(ws.get("back_to_back_mm", dflt_ws.back_to_back_mm)),
         r0_mm=float(wheel.get("nominal_radius_mm", 460.0)),
         wear=", ".join(wear))
+
+
+#: EN 15302 Annex E cases with equal wheels (right / left wheel profile, rail, diameters 920 mm):
+#: reference wheel profile file stem -> case
+EN15302_SYMMETRIC = {"RUIC519A": "E1", "RUIC519B": "E2", "RUIC519H": "E3", "RUIC519I": "E4"}
+EN15302_RAIL = "SUIC519A"
+
+
+def en15302_case(config_toml: str) -> str | None:
+    """The EN 15302 Annex E case a table's configuration is (``E1`` … ``E4``), else None.
+
+    Recognised by the standard's reference profile files (wheel ``RUIC519A/B/H/I``, rail
+    ``SUIC519A``) with equal wheels of 920 mm diameter; the cases with unequal diameters or
+    profiles (E5 … E9) need per-side wheels and are not matched here."""
+    cfg = tomllib.loads(config_toml or "")
+    wheel, rail = cfg.get("wheel", {}), cfg.get("rail", {})
+    if not wheel.get("profile") or not rail.get("profile"):
+        return None
+    if Path(str(rail["profile"])).stem.upper() != EN15302_RAIL:
+        return None
+    if abs(float(wheel.get("nominal_radius_mm", 460.0)) - 460.0) > 1e-9:
+        return None
+    return EN15302_SYMMETRIC.get(Path(str(wheel["profile"])).stem.upper())

@@ -31,6 +31,7 @@ from lutmpi.reports.convergence import (
     error_maps,
     mesh_spacing_of,
 )
+from lutmpi.table.schema import D
 
 log = logging.getLogger(__name__)
 WEAR_KEYS = re.compile(r"^(wheel|rail|wear)\.")
@@ -49,6 +50,8 @@ class SweepData:
 
 #: member statuses whose table is complete and read (``partial``: some poses failed)
 READABLE = ("ok", "partial")
+#: the member-status key of ``index.json`` (a sweep record, not a table dataset)
+STATUS_KEY = "status"  # not a dataset
 
 
 def read_member(path: str | Path) -> dict[str, Any]:
@@ -70,13 +73,13 @@ def load_sweep(outdir: str | Path) -> SweepData:
     if index_path.is_file():
         index = json.loads(index_path.read_text())["members"]
     else:
-        index = [{"id": p.stem, "status": "ok", "table": p.name, "params": {}, "message": ""}
+        index = [{"id": p.stem, STATUS_KEY: "ok", "table": p.name, "params": {}, "message": ""}
                  for p in sorted(out.glob("*.h5"))]
     if not index:
         raise TableError(f"{out}: no index.json and no tables")
     data = SweepData(out, index)
     for entry in index:
-        if entry.get("status") not in READABLE:
+        if entry.get(STATUS_KEY) not in READABLE:
             continue
         try:
             table = read_member(out / entry["table"])
@@ -173,7 +176,7 @@ def _convergence(data: SweepData, report: Path, reference: str) -> tuple[list[st
         if ref is None or ref is t:
             continue
         for q, err in error_maps(t.group, ref.group).items():
-            if q in ("z_g", "contact_angle"):
+            if q in (D.z_g, D.contact_angle):
                 name = f"map_{_safe(t.id)}_{q}.png"
                 plots.error_map(t.table["y"], t.table["yaw"], err, q, f"{t.id} vs {ref.id}",
                                 report / name)
@@ -231,10 +234,10 @@ def _wear(data: SweepData, report: Path) -> list[str]:
         j = int(np.argmin(np.abs(np.asarray(t.table["yaw"]))))
         g = t.group
         dr_c[t.id] = (y, dr)
-        if "contact_angle" in g:
-            ang_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g["contact_angle"])[:, j, 0, 0])
-        if "roll" in g:
-            roll_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g["roll"])[:, j])
+        if D.contact_angle in g:
+            ang_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g[D.contact_angle])[:, j, 0, 0])
+        if D.roll in g:
+            roll_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g[D.roll])[:, j])
         res = con.conicity_curve(y, dr, amps)
         conic[t.id] = (amps, res.tan_gamma_e)
         at = [res.at(a * 1e-3) if np.isfinite(res.tan_gamma_e[np.argmin(abs(amps - a * 1e-3))])
@@ -316,7 +319,7 @@ def _status_line(index: list[dict[str, Any]]) -> str:
     """``12 members: 9 ok, 2 partial (failed poses), 1 not selected``."""
     counts: dict[str, int] = {}
     for e in index:
-        counts[e.get("status", "?")] = counts.get(e.get("status", "?"), 0) + 1
+        counts[e.get(STATUS_KEY, "?")] = counts.get(e.get(STATUS_KEY, "?"), 0) + 1
     label = {"partial": "partial (some poses failed)"}
     order = sorted(counts.items(), key=lambda kv: kv[0] != "ok")
     parts = [f"{n} {label.get(k, k)}" for k, n in order]
@@ -348,11 +351,11 @@ def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "r
     report = Path(report_dir)
     report.mkdir(parents=True, exist_ok=True)
     lines = [f"# Sweep report: {data.outdir}", "", _status_line(data.index), ""]
-    listed = [e for e in data.index if e.get("status") != "ok"] + [
-        {"id": i, "status": "unreadable", "message": m} for i, m in data.unreadable]
+    listed = [e for e in data.index if e.get(STATUS_KEY) != "ok"] + [
+        {"id": i, STATUS_KEY: "unreadable", "message": m} for i, m in data.unreadable]
     if listed:
         lines += ["Members not fully ok:", ""] + [
-            f"- `{e['id']}` ({e.get('status', '?')}): {e.get('message', '')}" for e in listed]
+            f"- `{e['id']}` ({e.get(STATUS_KEY, '?')}): {e.get('message', '')}" for e in listed]
         lines.append("")
     has_mesh_levels = any(t.method != "reference" for t in data.tables)
     if has_mesh_levels and (reference == "finest" or any(t.method == "reference"

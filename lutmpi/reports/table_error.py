@@ -20,9 +20,11 @@ from typing import Any
 
 import numpy as np
 
+from lutmpi.table.schema import D
+
 #: quantity -> (scale to display units, unit)
-QUANTITIES = {"rolling_radius": (1e6, "um"), "contact_angle": (1e3, "mrad"),
-              "z_g": (1e6, "um"), "roll": (1e6, "urad")}
+QUANTITIES = {D.rolling_radius: (1e6, "um"), D.contact_angle: (1e3, "mrad"),
+              D.z_g: (1e6, "um"), D.roll: (1e6, "urad")}
 INTERPOLATIONS = ("jump_aware", "linear")
 NEAR_M = 2e-5
 
@@ -88,7 +90,7 @@ def measure(table: Any, solve: Callable[[float, float], dict[str, np.ndarray]],
     method = method or table.methods[0]
     y, yaw = test_poses(table.y, table.yaw, n_random)
     recs = [solve(float(a), float(b)) for a, b in zip(y, yaw, strict=True)]
-    ok = np.array([int(r["status"]) == 0 for r in recs])
+    ok = np.array([int(r[D.status]) == 0 for r in recs])
     names = [q for q in QUANTITIES if q in table.quantities]
     direct = {q: _primary(np.stack([np.asarray(r[q], float) for r in recs]), q) for q in names}
     stats: dict[str, dict[str, dict[str, tuple[float, float, int]]]] = {}

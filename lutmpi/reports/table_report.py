@@ -18,7 +18,8 @@ import numpy as np
 
 from lutmpi.reports import breaks, indices
 from lutmpi.reports import conicity as con
-from lutmpi.reports.pair import PairInfo, pair_info
+from lutmpi.reports.pair import PairInfo, en15302_case, pair_info
+from lutmpi.table.schema import D
 
 log = logging.getLogger(__name__)
 AMPLITUDES = "1:7.5:0.1"
@@ -77,7 +78,7 @@ def _functions(ctx: ReportContext) -> list[str]:
     from lutmpi.reports import geometry_plots as gp
 
     y, out, m = ctx.table.y, ctx.outdir, ctx.mask
-    rr, ang = ctx.at0("rolling_radius"), ctx.at0("contact_angle")
+    rr, ang = ctx.at0(D.rolling_radius), ctx.at0(D.contact_angle)
     dr = rr[:, 0, 0] - rr[:, 1, 0]
     figs = [
         gp.curve(y, {"Δr = r_left − r_right (main contacts)": dr}, m,
@@ -88,9 +89,9 @@ def _functions(ctx: ReportContext) -> list[str]:
                        "contact angle [deg]", out / "contact_angles.png", gp.DEG),
         gp.curve(y, {"tan γ_left − tan γ_right (main contacts)": indices.delta_tan_gamma(ang)}, m,
                  "Δtanγ function", ctx.case, "Δtanγ [-]", out / "delta_tan_gamma.png"),
-        gp.curve(y, {"roll (+ raises the left wheel)": ctx.at0("roll")}, m, "Roll angle",
+        gp.curve(y, {"roll (+ raises the left wheel)": ctx.at0(D.roll)}, m, "Roll angle",
                  ctx.case, "roll [deg]", out / "roll.png", gp.DEG),
-        gp.curve(y, {"z_g": ctx.at0("z_g")}, m, "Height of the wheelset centre above rail top",
+        gp.curve(y, {D.z_g: ctx.at0(D.z_g)}, m, "Height of the wheelset centre above rail top",
                  ctx.case, "z_g [mm]", out / "z_g.png", 1e3),
     ]
     return ["## Functions of y", "", "Lines break where a contact jumps (moves more than "
@@ -103,7 +104,7 @@ def _contact_map(ctx: ReportContext) -> list[str]:
     from lutmpi.reports.profiles_of import table_profiles
 
     profiles = table_profiles(ctx.table.config_toml)
-    points = {"wheel": ctx.at0("wheel_s"), "rail": ctx.at0("rail_v")}
+    points = {"wheel": ctx.at0(D.wheel_s), "rail": ctx.at0(D.rail_v)}
     path = gp.contact_map(ctx.table.y, profiles, points, ctx.case, ctx.outdir / "contact_map.png")
     lines = ["## Contact points on the profiles", "", ctx.fig(path), ""]
     for y in ctx.at_y:
@@ -149,6 +150,10 @@ def _indices(ctx: ReportContext) -> list[str]:
              f"Nonlinearity parameter NP (Polach 2010) = {_f(idx.nonlinearity * 1e-3)} 1/mm.", ""]
     if band is None and ctx.band_case:
         lines.append(f"No EN 15302 band: case {ctx.band_case} data not found (shared/).")
+    elif band is not None:
+        inside = _inside_band(amps, lam, band)
+        lines.append(f"EN 15302 Annex E case {ctx.band_case}: tolerance band drawn; "
+                     f"{inside[0]} of {inside[1]} computed amplitudes inside it.")
     return lines + [ctx.fig(path), ""]
 
 
@@ -167,14 +172,28 @@ def _band(case: str | None) -> dict[str, np.ndarray] | None:
             "lower": d["tol_lower"], "upper": d["tol_upper"]}
 
 
+def _inside_band(amps: np.ndarray, lam: np.ndarray, band: dict[str, np.ndarray]
+                 ) -> tuple[int, int]:
+    """(inside, compared): amplitudes where both the conicity and the band have a value."""
+    lo = np.interp(amps, band["amplitude"], band["lower"], left=np.nan, right=np.nan)
+    hi = np.interp(amps, band["amplitude"], band["upper"], left=np.nan, right=np.nan)
+    ok = np.isfinite(lam) & np.isfinite(lo)
+    return int(np.count_nonzero(ok & (lam >= lo) & (lam <= hi))), int(ok.sum())
+
+
 def _lead(ctx: ReportContext) -> list[str]:
     from lutmpi.reports import geometry_plots as gp
 
     t = ctx.table
-    wp = t.get("wheel_point", ctx.method)[:, :, :, 0, 0]          # (ny, nyaw, side) x
+    wp = t.get(D.wheel_point, ctx.method)[:, :, :, 0, 0]          # (ny, nyaw, side) x
     picks = sorted({0, t.y.size // 4, t.y.size // 2, 3 * t.y.size // 4, t.y.size - 1})
     leads = {f"y = {t.y[i] * 1e3:g} mm": wp[i] for i in picks}
-    path = gp.lead_vs_yaw(t.yaw, leads, ctx.case, ctx.outdir / "contact_lead.png")
+    raw = {n: t.get(n, ctx.method, raw=True) for n in (D.wheel_s, D.n_contacts, D.status)
+           if n in t.quantities}
+    masks = {f"y = {t.y[i] * 1e3:g} mm": breaks.detect(
+        raw[D.wheel_s][i], raw[D.n_contacts][i] if D.n_contacts in raw else None,
+        raw[D.status][i]) for i in picks} if D.wheel_s in raw else None
+    path = gp.lead_vs_yaw(t.yaw, leads, ctx.case, ctx.outdir / "contact_lead.png", masks)
     return ["## Contact lead against yaw", "", ctx.fig(path), ""]
 
 
@@ -182,11 +201,11 @@ def _status(ctx: ReportContext) -> list[str]:
     from lutmpi.reports import geometry_plots as gp
 
     t = ctx.table
-    st = t.get("status", ctx.method, raw=True)
+    st = t.get(D.status, ctx.method, raw=True)
     figs = [gp.category_map(t.y, t.yaw, st, gp.status_names(), "Solve status", ctx.case,
                             ctx.outdir / "status_map.png")]
-    if "n_contacts" in t.quantities:
-        nc = t.get("n_contacts", ctx.method, raw=True)
+    if D.n_contacts in t.quantities:
+        nc = t.get(D.n_contacts, ctx.method, raw=True)
         code = 10 * nc[:, :, 0] + nc[:, :, 1]
         names = {int(c): f"left {c // 10}, right {c % 10}" for c in np.unique(code)}
         figs.append(gp.category_map(t.y, t.yaw, code, names, "Contacts per wheel", ctx.case,
@@ -225,7 +244,9 @@ def build_table_report(table_path: str | Path, report_dir: str | Path, *,
     at_y_mm : tuple of float, optional
         Lateral shifts (mm) at which the pair is drawn to scale; default 0 and the grid's last y.
     band_case : str, optional
-        EN 15302 Annex E case (``E1`` … ``E9``) whose tolerance band is drawn with the conicity.
+        EN 15302 Annex E case (``E1`` … ``E9``) whose tolerance band is drawn with the conicity;
+        default: the case the table's profiles are, if any (:func:`lutmpi.reports.pair.
+        en15302_case`).
     """
     from lutmpi.table import Table
 
@@ -235,6 +256,7 @@ def build_table_report(table_path: str | Path, report_dir: str | Path, *,
     method = method or table.methods[0]
     j0 = int(np.argmin(np.abs(table.yaw)))
     at = tuple(a * 1e-3 for a in at_y_mm) if at_y_mm is not None else (0.0, float(table.y[-1]))
+    band_case = band_case or en15302_case(table.config_toml)
     ctx = ReportContext(table, method, out, pair_info(table.config_toml), j0,
                         breaks.break_mask(table, method, j0), at, band_case)
     lines: list[str] = []

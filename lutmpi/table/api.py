@@ -29,13 +29,14 @@ import numpy as np
 from lutmpi.equilibrium.result import CONVERGED, STATUS
 from lutmpi.errors import TableError
 from lutmpi.table import interp as _interp
+from lutmpi.table.schema import D
 
 
 def mask_failed(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """Float arrays with NaN where ``status`` is not converged (same leading shape)."""
-    if "status" not in arrays:
+    if D.status not in arrays:
         return arrays
-    bad = arrays["status"] != CONVERGED
+    bad = arrays[D.status] != CONVERGED
     out = {}
     for name, arr in arrays.items():
         if arr.dtype.kind == "f" and bad.any():
@@ -114,7 +115,7 @@ class Table:
         """
         method = self._method(method)
         names = None if quantities is None else tuple(
-            n for n in self.data[method] if n in set(quantities) | {"status"})
+            n for n in self.data[method] if n in set(quantities) | {D.status})
         key = (method, jump_aware, names)
         if key not in self._interp:
             arrays = self._masked[method]
@@ -191,7 +192,7 @@ class Table:
 
     def status_counts(self, method: str | None = None) -> dict[str, int]:
         """Number of points per status text."""
-        codes, counts = np.unique(self.get("status", method, raw=True), return_counts=True)
+        codes, counts = np.unique(self.get(D.status, method, raw=True), return_counts=True)
         return {STATUS.get(int(c), str(c)).split(":")[0]: int(n) for c, n in zip(codes, counts,
                                                                                  strict=True)}
 

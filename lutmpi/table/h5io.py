@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import os
+import tomllib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -168,6 +169,8 @@ def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
     try:
         with f:
             return _read_open_table(f, path)
+    except TableError:
+        raise
     except (KeyError, ValueError, TypeError, OSError, RuntimeError) as exc:
         # a damaged or doctored file: name the file and what is missing or wrong
         raise TableError(f"{path}: damaged table ({type(exc).__name__}: {exc})") from exc
@@ -186,6 +189,11 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
     for key in ("methods", "config_toml"):
         if key not in attrs:
             raise TableError(f"{path}: damaged table: root attribute {key!r} is missing")
+    try:
+        tomllib.loads(str(attrs["config_toml"]))
+    except tomllib.TOMLDecodeError as exc:
+        raise TableError(f"{path}: damaged table: root attribute 'config_toml' is not valid TOML "
+                         f"({exc})") from exc
     try:
         names = json.loads(attrs["methods"])
     except (TypeError, ValueError) as exc:

@@ -38,6 +38,8 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from lutmpi.table.schema import D
+
 MODES = ("linear", "pchip", "nearest")
 LINEAR, PCHIP, NEAREST = 0, 1, 2
 #: flags of a query (bit mask)
@@ -308,7 +310,7 @@ def choose_modes(y_axis: np.ndarray, arrays: dict[str, np.ndarray],
     order away from jumps).
     """
     floats = {n: a for n, a in arrays.items() if a.dtype.kind == "f"}
-    ip = build(y_axis, np.arange(arrays["status"].shape[1], dtype=float), floats, jumps, limits,
+    ip = build(y_axis, np.arange(arrays[D.status].shape[1], dtype=float), floats, jumps, limits,
                knot_y, knots)
     err = np.zeros((2, ip.layout.size))
     for j in range(ip.ky.shape[0]):

@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from lutmpi.table.schema import JUMP_FIELDS, Field
+from lutmpi.table.schema import JUMP_FIELDS, D, Field
 
 #: primary contact point movement (m) between neighbours that makes a cell a candidate
 CANDIDATE_M = 2e-3
@@ -54,7 +54,7 @@ TOL_M = 5e-6
 MAX_PER_CELL = 4
 #: refinement: largest miss of the straight line at an interval's midpoint, per checked quantity
 #: (m, rad, m, rad); refined below, down to intervals of MIN_WIDTH_M
-REFINE_TOL = {"rolling_radius": 1.5e-6, "contact_angle": 1.5e-4, "z_g": 2e-6, "roll": 2e-5}
+REFINE_TOL = {D.rolling_radius: 1.5e-6, D.contact_angle: 1.5e-4, D.z_g: 2e-6, D.roll: 2e-5}
 MIN_WIDTH_M = 1e-6
 #: a child interval is refined further only if its miss fell below this fraction of its parent's
 #: (a smooth function: 1/4 per halving, a kink: 1/2; solver noise does not fall: stop there)
@@ -97,10 +97,10 @@ class Jump:
 def _keys(rec: Record) -> tuple[tuple[int, ...], np.ndarray]:
     """Discrete key (status, contacts per wheel) and the primary contact coordinates per wheel
     (wheel s, rail v; shape (2, 2), m) of a record."""
-    disc = (int(rec["status"]),)
-    if "n_contacts" in rec:
-        disc += tuple(int(v) for v in np.asarray(rec["n_contacts"]).ravel())
-    cols = [np.asarray(rec[n], float)[:, 0] for n in ("wheel_s", "rail_v") if n in rec]
+    disc = (int(rec[D.status]),)
+    if D.n_contacts in rec:
+        disc += tuple(int(v) for v in np.asarray(rec[D.n_contacts]).ravel())
+    cols = [np.asarray(rec[n], float)[:, 0] for n in (D.wheel_s, D.rail_v) if n in rec]
     cont = np.stack(cols, axis=1) if cols else np.zeros((2, 0))
     return disc, cont
 
@@ -151,7 +151,7 @@ def candidate_cells(arrays: dict[str, np.ndarray], threshold: float = CANDIDATE_
     threshold : float
         Primary contact point movement that makes a cell a candidate, m.
     """
-    ny, nyaw = arrays["status"].shape
+    ny, nyaw = arrays[D.status].shape
     out = []
     for j in range(nyaw):
         keys = [_keys(_node(arrays, i, j)) for i in range(ny)]

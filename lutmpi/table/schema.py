@@ -4,7 +4,7 @@ Layout of a table file (HDF5)::
 
     /                    root attributes: config_toml, lutmpi_version, git_commit, created_utc,
                          ranks, wall_time_s, rank_busy_s, schema_version, complete, methods,
-                         quantities
+                         quantities, inputs (content hashes, :mod:`lutmpi.table.provenance`)
     /y        (ny,)      m    lateral shift y_g of the wheelset (dimension scale)
     /yaw      (nyaw,)    rad  yaw angle theta_z (dimension scale)
     /<method>/<name>     one group per contact method (``load_centre``, ``reference``, ...),
@@ -21,6 +21,7 @@ This module is pure: no h5py, no mpi4py.
 from __future__ import annotations
 
 import json
+from collections import namedtuple
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -176,6 +177,12 @@ def dataset_attributes(field: Field) -> dict[str, str]:
     if field.name == "status":
         attrs["status_codes"] = status_codes_json()
     return attrs
+
+
+# -- dataset names as attributes (issue 15: no module spells a dataset name) ------------------
+#: ``D.rolling_radius == "rolling_radius"``: code outside this module names datasets through ``D``,
+#: so a renamed or removed field fails where it is used instead of reading a missing key
+D = namedtuple("DatasetNames", [f.name for f in FIELDS])(*(f.name for f in FIELDS))
 
 
 # -- contact jumps (issue 11): /<method>/jumps/ -----------------------------------------------

@@ -110,10 +110,11 @@ def _fill(directory: Path) -> Path:
     return filler
 
 
-def test_disk_full_mid_build_on_two_ranks_ends_fast_and_resumes_identical(reference, small_fs):
+@pytest.mark.parametrize("ranks", [2, 1])
+def test_disk_full_mid_build_ends_fast_and_resumes_identical(reference, small_fs, ranks):
     cfg, ref = reference
     out = small_fs / "t.h5"
-    proc = start_build(cfg, out, 2, "--checkpoint-interval", "0", LUTMPI_FAULT=SLOW)
+    proc = start_build(cfg, out, ranks, "--checkpoint-interval", "0", LUTMPI_FAULT=SLOW)
     before = _wait_for_points(proc, out, 6)
     filler = _fill(small_fs)
     t_full = time.monotonic()
@@ -126,6 +127,7 @@ def test_disk_full_mid_build_on_two_ranks_ends_fast_and_resumes_identical(refere
     print(f"disk full: ended {elapsed:.1f} s after the fill; stderr tail:\n{stderr[-1500:]}")
     assert proc.returncode != 0, stderr
     assert "No space left on device" in stderr and "--resume" in stderr, stderr
+    assert "Segmentation" not in stderr and proc.returncode in (1, 2), proc.returncode
     assert elapsed < 60, elapsed
     assert not out.exists()                              # nothing claims to be complete
     with h5py.File(out.with_name(out.name + ".partial"), "r") as f:
@@ -133,11 +135,45 @@ def test_disk_full_mid_build_on_two_ranks_ends_fast_and_resumes_identical(refere
     kept = _journaled(out)
     assert kept >= before
     filler.unlink()                                      # space is back
-    res = build(cfg, out, 2, "--resume")
+    res = build(cfg, out, ranks, "--resume")
     assert res.returncode == 0, res.stderr
     computed, reused = _counts(res.stderr)
     assert reused == kept and computed == N_POINTS - kept
     assert differences(ref, out) == []
+
+
+def test_final_write_needs_no_new_space(small_fs, tmp_path):
+    """The partial file's storage and attributes are allocated before compute, so a disk that
+    fills up after the last point is journaled does not stop the table from being written."""
+    import numpy as np
+
+    from lutmpi.config.load import load_config
+    from lutmpi.parallel.comm import SelfComm, root_decides
+    from lutmpi.parallel.writer import TableWriter
+    from lutmpi.table.compute import compute_points
+    from lutmpi.table.grid import Grid
+    from lutmpi.table.h5io import read_table
+    from lutmpi.table.provenance import input_record
+    from lutmpi.table.schema import select_fields
+    from tests.support import faulty_solver
+
+    cfg = load_config(_config(tmp_path))
+    grid, fields, comm = Grid.from_config(cfg.grid), select_fields(("all",)), SelfComm()
+    writer = TableWriter(small_fs / "t.h5", comm, grid, METHODS, fields, input_record(cfg))
+    plan = root_decides(comm, lambda: writer.prepare(force=False, resume=False))
+    writer.begin(plan, {"schema_version": 1, "methods": '["load_centre", "max_distance"]',
+                        "config_toml": cfg.text, "wall_time_s": np.nan,
+                        "rank_busy_s": np.full(1, np.nan)})
+    points = np.arange(grid.n_points)
+    records, _ = compute_points(faulty_solver.make_scene(cfg), grid, points, METHODS,
+                                faulty_solver.solve, fields)
+    writer.record(points, records)
+    _fill(small_fs)
+    writer.finish({"wall_time_s": 1.0, "rank_busy_s": np.ones(1)})
+    table = read_table(small_fs / "t.h5")
+    assert table["attrs"]["complete"] and table["attrs"]["wall_time_s"] == 1.0
+    assert np.array_equal(table["methods"]["max_distance"]["z_g"].ravel(),
+                          records["max_distance"]["z_g"])
 
 
 # -- kill -9 of a one-process build ---------------------------------------------------------------
@@ -199,11 +235,13 @@ def test_changed_profile_refused_same_content_elsewhere_resumes(reference, tmp_p
 def test_second_build_on_same_output_refused_at_once_first_completes(reference, tmp_path):
     cfg, ref = reference
     out = tmp_path / "t.h5"
-    first = start_build(cfg, out, 2, LUTMPI_FAULT=SLOW)
+    # slow enough (~10-20 s) to be still running when the second build's mpirun is up
+    first = start_build(cfg, out, 2, LUTMPI_FAULT="sleep=0.12")
     _wait_for_points(first, out, 2)
     t0 = time.monotonic()
     second = build(cfg, out, 2, "--force", timeout=60)
     elapsed = time.monotonic() - t0
+    assert first.poll() is None, "the first build ended before the second started: no overlap"
     assert second.returncode != 0
     assert "being written by another lutmpi build (pid" in second.stderr, second.stderr
     assert elapsed < 15, elapsed            # refused before any compute (mpirun start-up only)

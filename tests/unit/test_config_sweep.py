@@ -14,7 +14,7 @@ from lutmpi.config.sweep import SWEEP_KEYS
 from lutmpi.errors import ConfigError
 
 ROOT = Path(__file__).resolve().parents[2]
-SHARED_PROFILES = Path("/work/shared/profiles")
+SHARED_PROFILES = ROOT / "profiles"   # the repository copies of shared/profiles (identical)
 BASE = {"wheel": {"generator": "S1002"}, "rail": {"generator": "UIC60"},
         "grid": {"y_mm": [-4.0, 4.0, 5], "yaw_rad": [-0.01, 0.01, 3]}}
 

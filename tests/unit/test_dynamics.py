@@ -174,4 +174,9 @@ def test_jacobian_model_agrees_with_the_classical_model_on_a_cone():
     p = P.with_(saturation="none")
     vc = linear_critical_speed(linear_parameters(prov, p), p).speed
     vj, fj = jacobian_critical_speed(prov, p, amplitude=1e-4)
-    assert vj == pytest.approx(vc, rel=0.10) and fj > 0
+    # the full model adds the spin dof and the gyroscopic load shift to Wickens': measured
+    # 2.512 vs 2.491 m/s (0.85 %), hunting at 0.156 vs 0.149 Hz; 2 % and 10 % allowed (issue 16:
+    # was 10 % and fj > 0, which could barely fail)
+    assert vj == pytest.approx(vc, rel=0.02)
+    f_classical = linear_critical_speed(linear_parameters(prov, p), p).frequency
+    assert fj == pytest.approx(f_classical, rel=0.10)

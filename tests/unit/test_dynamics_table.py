@@ -103,8 +103,9 @@ def test_simulate_command_on_a_real_table(small_table, tmp_path):
                "-o", str(out)])
     assert rc == 0
     with h5py.File(out, "r") as f:
-        # 1 s holds few peaks: "undetermined" is an honest answer
-        assert f.attrs["success"] and f.attrs["kind"] in ("stable", "hunting", "undetermined")
+        # 1 s at 27 m/s is about one hunting period (Klingel wavelength ~ 20 m): too short to
+        # tell stable from hunting, and the one classification (dynamics/stability.py) says so
+        assert f.attrs["success"] and f.attrs["kind"] == "undetermined"
         for name in ("t", "y", "yaw", "roll", "normal_force", "lateral_tangential_force"):
             assert np.all(np.isfinite(f[name][()])), name
             assert f[name].attrs["units"] in ("s", "m", "rad", "N")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from lutmpi.cli import main
+from lutmpi.paths import REPO_ROOT
 
 
 def test_show_generator(capsys: pytest.CaptureFixture[str]):
@@ -16,8 +17,8 @@ def test_show_generator(capsys: pytest.CaptureFixture[str]):
     assert "head width    : 71.962 mm" in out and "v = -35.981 mm" in out
 
 
-def test_show_file_and_wrong_kind(shared_dir, capsys: pytest.CaptureFixture[str]):
-    f = str(shared_dir / "profiles" / "MBench_UIC60_v3.prr")
+def test_show_file_and_wrong_kind(capsys: pytest.CaptureFixture[str]):
+    f = str(REPO_ROOT / "profiles" / "MBench_UIC60_v3.prr")   # = shared/profiles' copy
     assert main(["profile", "show", f]) == 0
     assert "1:40.0" in capsys.readouterr().out
     assert main(["profile", "show", f, "--kind", "wheel"]) == 1

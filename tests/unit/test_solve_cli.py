@@ -24,17 +24,19 @@ def test_solve_writes_one_row_per_pose_with_units(tmp_path):
     assert rc == 0
     rows = list(csv.DictReader(out.open()))
     assert [float(r["y_mm"]) for r in rows] == [0.0, -3.0, 4.0]
-    for col in ("z_g_mm", "roll_rad", "left_wheel_s_mm", "right_contact_angle_rad",
-                "left_rolling_radius_mm", "right_x_mm", "left_n_contacts", "status"):
+    # the schema's columns, as `lutmpi export --format csv` writes them (mm, deg)
+    for col in ("z_g_mm", "roll_deg", "wheel_s_left_s0_mm", "contact_angle_right_s0_deg",
+                "rolling_radius_left_s0_mm", "wheel_point_x_right_s0_mm", "n_contacts_left",
+                "status", "status_text", "message"):
         assert col in rows[0]
-    assert all(r["status"] == "0" for r in rows)
+    assert all(r["status"] == "0" and r["status_text"] == "converged" for r in rows)
     # symmetry of the centred pose: equal rolling radii, zero roll
     r0 = rows[0]
-    assert float(r0["roll_rad"]) == pytest.approx(0.0, abs=1e-12)
-    assert float(r0["left_rolling_radius_mm"]) == pytest.approx(
-        float(r0["right_rolling_radius_mm"]), abs=1e-9)
+    assert float(r0["roll_deg"]) == pytest.approx(0.0, abs=1e-10)
+    assert float(r0["rolling_radius_left_s0_mm"]) == pytest.approx(
+        float(r0["rolling_radius_right_s0_mm"]), abs=1e-9)
     # a lateral shift to the right (y < 0) rolls the wheelset toward the right
-    assert float(rows[1]["roll_rad"]) < 0 < float(rows[2]["roll_rad"])
+    assert float(rows[1]["roll_deg"]) < 0 < float(rows[2]["roll_deg"])
 
 
 @pytest.mark.parametrize("text, match", [

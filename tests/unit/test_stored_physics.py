@@ -328,3 +328,33 @@ def test_eq1_balance_with_a_large_spring_share(m):
         assert spring_z < -0.4 * W          # the spring carries a large share (pulls down)
         assert fz - W - spring_z == pytest.approx(0.0, abs=1e-4 * W)
         assert moment - spring_roll == pytest.approx(0.0, abs=1e-4 * W * D)
+
+
+@pytest.mark.parametrize("m", ["max_distance", "load_centre"])
+def test_flange_factor_on_a_steep_cone(m):
+    """§4.5 on a 1:8.3 cone (dr = 0.12 |s| on the flange side s < 0) on R200 crown rails, with
+    the flange model on and the paper's χ. The contact sits where the crown's slope equals the
+    cone's, v = -R sin(atan 0.12) = -23.8 mm, i.e. s ~ -24 mm (±2 mm with y): between the flange
+    base (r0 + 2 mm, s = -16.7 mm) and the tip (the cone's largest radius, r0 + 0.12 * 60 mm),
+    so k_c is scaled linearly in the radius -- the flange-root band s in (-30, 0) mm that the
+    S1002 table never touches."""
+    from lutmpi.contact.solve import solve_pose
+    from lutmpi.scene import Scene, SolveSettings
+    from tests.unit.contact_fixtures import D_TAPE, cone_wheel, crown_gauge, crown_rail
+
+    lam, radius = 0.12, 0.2
+    sc = Scene.from_profiles(cone_wheel(lam), crown_rail(radius, half_width=0.045), r0=R0,
+                             tape_half_distance=D_TAPE, inclination=0.0,
+                             gauge=crown_gauge(radius, 1e-3), gauge_depth=1e-3,
+                             settings=SolveSettings(flange=True, chi=CHI))
+    r_tip = R0 + lam * 0.060
+    for y in (0.0, 2e-3, -2e-3):
+        res = solve_pose(sc, y, 0.0, m)
+        assert res.success, res.message
+        for side in ("left", "right"):
+            (c,) = res.contacts[side]
+            assert -0.030 < c.wheel_s < -0.0167           # the flange-root band
+            assert c.rolling_radius == pytest.approx(R0 - lam * c.wheel_s, abs=1e-9)
+            expected = float(np.interp(c.rolling_radius, [R_BASE, r_tip], [1.0, CHI]))
+            assert c.kc / res.kc == pytest.approx(expected, abs=1e-4)
+            assert expected < 0.9

@@ -171,11 +171,13 @@ def test_query_agrees_with_solve_column_by_column(tmp_path):
     assert list(q[0])[:len(s[0])] == list(s[0])          # the same columns, same order
     far = [abs(float(r["jump_distance_mm"])) > 0.02 for r in q]
     assert sum(far) >= 55
-    for col, tol in (("rolling_radius_mm", 5e-3), ("contact_angle_rad", 5e-4)):
+    # primary contact (slot 0) of each wheel: 5 um, 0.5 mrad = 0.02865 deg (the targets)
+    for col, tol in (("rolling_radius_{}_s0_mm", 5e-3),
+                     ("contact_angle_{}_s0_deg", math.degrees(5e-4))):
         for side in ("left", "right"):
-            err = [abs(float(a[f"{side}_{col}"]) - float(b[f"{side}_{col}"]))
-                   for a, b, f in zip(q, s, far, strict=True) if f]
-            assert max(err) <= tol, (side, col, max(err))
+            c = col.format(side)
+            err = [abs(float(a[c]) - float(b[c])) for a, b, f in zip(q, s, far, strict=True) if f]
+            assert max(err) <= tol, (c, max(err))
     assert all(a["status"] == b["status"] == "0" for a, b in zip(q, s, strict=True))
 
 

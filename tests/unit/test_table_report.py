@@ -74,3 +74,26 @@ def test_detect_marks_moves_count_and_status_changes():
     st = np.array([0, 0, 0, 0, 4])
     np.testing.assert_array_equal(breaks.detect(s, nc, st), [True, True, True, True])
     np.testing.assert_array_equal(breaks.detect(s), [False, False, True, False])
+
+
+def test_en15302_band_named_and_counted(table, tmp_path, shared_dir):
+    """The band of case E1 drawn on S1002/UIC60 1:40 (not E1's profiles: the count says how many
+    amplitudes fall inside, it does not claim a pass)."""
+    if not (shared_dir / "validation" / "en15302" / "csv" / "reference_conicity_E1.csv").is_file():
+        pytest.skip("EN 15302 data not in shared/")
+    rep = tmp_path / "rep"
+    assert cli(["report", str(table), "-o", str(rep), "--at-y-mm", "0",
+                "--en15302-case", "E1"]) == 0
+    text = (rep / "report.md").read_text()
+    assert "EN 15302 Annex E case E1: tolerance band drawn;" in text
+    assert "computed amplitudes inside it" in text
+
+
+def test_en15302_case_recognised_from_the_profiles():
+    from lutmpi.reports.pair import en15302_case
+
+    e2 = ('[wheel]\nprofile = "/x/RUIC519B.dat"\nnominal_radius_mm = 460.0\n'
+          '[rail]\nprofile = "/x/SUIC519A.dat"\ninclination = "none"\n')
+    assert en15302_case(e2) == "E2"
+    assert en15302_case(e2.replace("460.0", "459.0")) is None       # 918 mm: not E2
+    assert en15302_case('[wheel]\ngenerator = "S1002"\n[rail]\ngenerator = "UIC60"\n') is None

@@ -224,6 +224,7 @@ def _doctor(src, dst, edit):
     (lambda f: f["load_centre"].__delitem__("status"), "/load_centre/status is missing"),
     (lambda f: f.__delitem__("yaw"), "dataset /yaw is missing"),
     (lambda f: f.attrs.__delitem__("schema_version"), "not a lutmpi table"),
+    (lambda f: f.attrs.modify("config_toml", "not = [toml"), "'config_toml' is not valid TOML"),
 ])
 def test_damaged_table_is_a_clear_error_naming_file_and_what(fresh, tmp_path, edit, message):
     bad = _doctor(fresh, tmp_path / "bad.h5", edit)
@@ -238,3 +239,39 @@ def test_foreign_hdf5_is_a_clear_error(tmp_path):
         f["x"] = np.arange(3)
     with pytest.raises(TableError, match="not a lutmpi table"):
         read_table(path)
+
+
+def test_sweep_rerun_compares_contents_not_paths(tmp_path, repo_root):
+    """A member whose profile changed since its table was built is not kept (issue 13, item 1);
+    ``--force`` recomputes it; an unchanged member is skipped."""
+    from lutmpi.parallel.sweep_runner import run_sweep
+
+    wheel = tmp_path / "w.whl"
+    shutil.copy(repo_root / "profiles" / "avg_wheel.whl", wheel)
+    sweep = tmp_path / "s.toml"
+    sweep.write_text('[base.wheel]\nprofile = "w.whl"\n[base.rail]\ngenerator = "UIC60"\n'
+                     '[base.grid]\ny_mm = [-3.0, 3.0, 3]\nyaw_rad = [-0.01, 0.01, 3]\n'
+                     '[[sweep]]\nproduct = { "track.gauge_mm" = [1435.0] }\n')
+    out = tmp_path / "out"
+    kw = {"solver": faulty_solver.solve, "scene_factory": faulty_solver.make_scene}
+    first = run_sweep(sweep, out, **kw)
+    assert [m.status for m in first.members] == ["ok"]
+    again = run_sweep(sweep, out, **kw)
+    assert again.members[0].skipped
+    wheel.write_bytes(wheel.read_bytes() + b"\n")
+    changed = run_sweep(sweep, out, **kw)
+    (member,) = changed.members
+    assert member.status == "failed" and "wheel.profile" in member.message
+    forced = run_sweep(sweep, out, force=True, **kw)
+    assert forced.members[0].status == "ok" and not forced.members[0].skipped
+
+
+def test_commands_on_an_all_failed_table_are_clear_errors(fresh, tmp_path, capsys):
+    """``conicity`` on a table whose every point failed raised TypeError (issue 13, item 7)."""
+    from lutmpi.cli import main
+
+    bad = _doctor(fresh, tmp_path / "failed.h5",
+                  lambda f: f["load_centre/status"].__setitem__(Ellipsis, 2))
+    assert main(["conicity", str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert "lutmpi conicity: error:" in err and "Traceback" not in err

@@ -48,15 +48,14 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
         b0, b1, b2 = r * np.sin(phi), side * (d + ws_[k]), -r * np.cos(phi)
         inv = 1.0 / np.sqrt(1.0 + dr * dr)
         n0, n1, n2 = np.sin(phi) * inv, -side * dr * inv, -np.cos(phi) * inv
-        v = np.empty(3)
         vn = 0.0
         vm = 0.0
         for a in range(3):
             pa = centre[a] + R[a, 0] * b0 + R[a, 1] * b1 + R[a, 2] * b2
             na = R[a, 0] * n0 + R[a, 1] * n1 + R[a, 2] * n2
-            v[a] = rail_pts[j, a] - pa
-            vn += v[a] * rail_nrm[j, a]
-            vm += v[a] * na
+            va = rail_pts[j, a] - pa
+            vn += va * rail_nrm[j, a]
+            vm += va * na
         if vn >= 0.0 and vm <= 0.0:  # eq. (2), rail side
             out.n_rail_nodes[g] += 1
             for a in range(3):

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lutmpi.contact.methods.base import ContactMethod
-from lutmpi.contact.records import SIDE_SIGN, contact_record
+from lutmpi.contact.records import SIDE_SIGN, contact_records
 from lutmpi.equilibrium.result import CONVERGED, STATUS, PoseResult
 
 
@@ -24,15 +24,17 @@ class RigidLocusMethod(ContactMethod):
             message=STATUS[CONVERGED], nit=rigid.nit, indentation=0.0,
         )
         rail = scene.rail
+        rows, names = [], []
         for name, side in SIDE_SIGN.items():
             for c in rigid.contacts[name]:
                 u = float(np.clip(c.u, rail.u_min, rail.u_max))
                 sl = float(rail.slope(u))
                 n = np.array([0.0, side * -sl, 1.0]) / np.hypot(1.0, sl)
                 rp = np.array([c.point[0], side * u, float(rail.height(u))])
-                res.contacts[name].append(
-                    contact_record(scene, side, c.point, rp, n, max(-c.gap, 0.0), c.s, np.nan)
-                )
+                rows.append((side, c.point, rp, n, max(-c.gap, 0.0), c.s, np.nan))
+                names.append(name)
+        for name, rec in zip(names, contact_records(scene, rows), strict=True):
+            res.contacts[name].append(rec)
         return res
 
 

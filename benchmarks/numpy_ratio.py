@@ -1,0 +1,148 @@
+"""lutmpi's whole ``build`` command on 1 rank against a simple numpy rigid-contact solver on one
+core, measured in the same run, on the same grid and profiles (issue 14, "Must show" 2).
+
+    .venv/bin/python benchmarks/numpy_ratio.py configs/manchester_s1002_uic60_1in40.toml
+
+The simple solver is what a vehicle-dynamics engineer would write in an afternoon: for each pose
+(y, yaw) it finds the rigid two-point contact (z_g, roll) by brute force on a wheel surface grid.
+Per wheel and roll, every profile slice (0.25 mm apart over the placed profile) is a circle; its
+points on 11 angles over +-0.2 rad, then 2 x 5 angles around each slice's best, are moved to the
+track frame and their vertical gap to the rail profile (``np.interp`` on 0.05 mm samples) is taken;
+the smallest gap of each wheel is the height at which it touches. The roll making both wheels
+touch comes from a secant iteration on the height mismatch (Brent's bracket as fallback). The
+inputs are the placed profiles of lutmpi's scene (the same geometry); nothing else is shared.
+
+Printed: the wall time of ``lutmpi build CONFIG`` (whole command: start-up, imports, compiled
+kernels loaded, every point, the HDF5 file) on one rank, the numpy solver's time over the same
+grid, their ratio, and the numpy solver's deviation from the table's z_g and roll (a sanity check
+that it solves the same problem: a few µm, its angular grid).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import brentq
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from lutmpi.config import load_config  # noqa: E402
+from lutmpi.scene import Scene  # noqa: E402
+from lutmpi.table.grid import Grid  # noqa: E402
+
+
+class NumpyRigid:
+    """Brute-force rigid two-point contact (module docstring). SI units."""
+
+    def __init__(self, scene: Scene, ds: float = 2.5e-4):
+        w, r = scene.wheel, scene.rail
+        self.s = np.arange(w.s_min, w.s_max, ds)
+        self.r = w.radius(self.s)
+        self.d = w.d
+        self.ru = np.arange(r.u_min, r.u_max, 5e-5)
+        self.rz = r.height(self.ru)
+
+    def _gap_min(self, side: float, y: float, R: np.ndarray) -> float:
+        """Smallest vertical gap of wheel ``side`` to its rail with G at height 0."""
+        phi0 = np.zeros(self.s.size)
+        best = None
+        for span, n in ((0.2, 11), (0.04, 5), (0.008, 5)):
+            phi = phi0[:, None] + np.linspace(-span, span, n)[None, :]
+            bx, bz = self.r[:, None] * np.sin(phi), -self.r[:, None] * np.cos(phi)
+            by = side * (self.d + self.s)[:, None]
+            py = R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz + y
+            pz = R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz
+            u = side * py
+            gap = pz - np.interp(u, self.ru, self.rz, left=np.inf, right=np.inf)
+            gap[(u < self.ru[0]) | (u > self.ru[-1])] = np.inf
+            k = np.argmin(gap, axis=1)
+            phi0 = phi[np.arange(self.s.size), k]
+            best = gap[np.arange(self.s.size), k]
+        return float(np.min(best))
+
+    @staticmethod
+    def rotation(yaw: float, roll: float) -> np.ndarray:
+        cy, sy, cr, sr = np.cos(yaw), np.sin(yaw), np.cos(roll), np.sin(roll)
+        return np.array([[cy, -sy * cr, sy * sr], [sy, cy * cr, -cy * sr], [0.0, sr, cr]])
+
+    def solve(self, y: float, yaw: float) -> tuple[float, float]:
+        """(z_g, roll) of the rigid two-point contact."""
+
+        def heights(roll: float) -> tuple[float, float]:
+            R = self.rotation(yaw, roll)
+            return -self._gap_min(1.0, y, R), -self._gap_min(-1.0, y, R)
+
+        def h(roll: float) -> float:
+            zl, zr = heights(roll)
+            return zl - zr
+
+        x0, f0 = 0.0, h(0.0)
+        x1 = f0 / (2.0 * self.d)
+        f1 = h(x1)
+        for _ in range(20):
+            if f1 == f0 or abs(x1 - x0) < 1e-10:
+                break
+            x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
+            f1 = h(x1)
+        if not abs(f1) < 1e-8:
+            x1 = brentq(h, -0.02, 0.02, xtol=1e-10)
+        zl, zr = heights(x1)
+        return 0.5 * (zl + zr), x1
+
+
+def run_build(config: str, out: Path) -> float:
+    env = dict(os.environ, PYTHONPATH=str(ROOT), OMP_NUM_THREADS="1")
+    t0 = time.perf_counter()
+    res = subprocess.run([str(ROOT / ".venv/bin/lutmpi"), "build", config, "-o", str(out),
+                          "--force"], capture_output=True, text=True, env=env, cwd=str(ROOT))
+    wall = time.perf_counter() - t0
+    if res.returncode != 0:
+        sys.exit(f"lutmpi build failed:\n{res.stderr[-3000:]}")
+    return wall
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("config")
+    ap.add_argument("--repeat", type=int, default=1, help="take the best of this many runs")
+    a = ap.parse_args()
+    cfg = load_config(a.config)
+    grid = Grid.from_config(cfg.grid)
+    print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  load {os.getloadavg()}  "
+          f"{a.config}: {grid.shape[0]} x {grid.shape[1]} poses")
+    solver = NumpyRigid(Scene.from_config(cfg))
+    tmp = Path(tempfile.mkdtemp(prefix="lutmpi-ratio-"))
+    builds, numpys = [], []
+    for _ in range(a.repeat):
+        builds.append(run_build(a.config, tmp / "t.h5"))
+        t0 = time.perf_counter()
+        sol = np.array([[solver.solve(y, yaw) for yaw in grid.yaw] for y in grid.y])
+        numpys.append(time.perf_counter() - t0)
+    import h5py
+
+    with h5py.File(tmp / "t.h5", "r") as f:
+        method = cfg.output.methods[0]
+        ref = "/reference/z_g" in f
+        z, roll = f[f"{method}/z_g"][...], f[f"{method}/roll"][...]
+    ok = np.isfinite(z)
+    print(f"lutmpi build, 1 rank, whole command ({method}): {min(builds):.2f} s "
+          f"(runs {', '.join(f'{b:.2f}' for b in builds)})")
+    print(f"numpy rigid solver, one core:                {min(numpys):.2f} s "
+          f"(runs {', '.join(f'{b:.2f}' for b in numpys)})")
+    print(f"  ({min(numpys) / grid.n_points * 1e3:.2f} ms per pose)")
+    print(f"ratio lutmpi / numpy: {min(builds) / min(numpys):.2f}")
+    print(f"numpy vs table ({'reference' if ref else method}): max |dz_g| "
+          f"{np.max(np.abs(sol[..., 0] - z)[ok]) * 1e3:.4f} mm, max |droll| "
+          f"{np.max(np.abs(sol[..., 1] - roll)[ok]):.2e} rad")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,70 @@
+"""Checks of an output path made by every command *before* its work (issue 13): a command that
+would fail to write its result after minutes of compute fails at once instead, naming the path.
+
+The checks: the folder exists and takes a new file (``access(2)``, which reports a read-only file
+system, then an empty probe file created and removed: root passes ``access`` on ``/proc``), and
+what already sits at the path is a regular file (a device node, a folder or a socket is never
+replaced).
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+from pathlib import Path
+
+from lutmpi.errors import OutputError
+
+
+def check_output_file(path: str | os.PathLike[str] | None, what: str = "output file") -> Path:
+    """Raise unless ``path`` can be written as a file; return it as a :class:`Path`.
+
+    Raises
+    ------
+    OutputError
+        Empty name, an existing folder / device / other non-regular file at the path, a missing
+        or unwritable parent folder.
+    """
+    if path is None or not str(path).strip() or not Path(path).name:
+        raise OutputError(f"the {what} path {'' if path is None else str(path)!r} names no file")
+    p = Path(path)
+    if p.is_dir():
+        raise OutputError(f"{p} ({what}) is a folder; give a file name")
+    if p.exists() and not p.is_file():
+        raise OutputError(f"{p} ({what}) exists and is not a regular file; it is never replaced")
+    _writable_folder(p.parent if str(p.parent) else Path("."), what)
+    return p
+
+
+def check_output_dir(path: str | os.PathLike[str] | None, what: str = "output folder") -> Path:
+    """Raise unless ``path`` is a writable folder or can be created as one; return it."""
+    if path is None or not str(path).strip():
+        raise OutputError(f"the {what} path is empty")
+    p = Path(path)
+    if p.exists():
+        if not p.is_dir():
+            raise OutputError(f"{p} ({what}) exists and is not a folder")
+        _writable_folder(p, what)
+        return p
+    parent = next((a for a in p.absolute().parents if a.exists()), Path("/"))
+    if not parent.is_dir():
+        raise OutputError(f"{p} ({what}) cannot be created: {parent} is not a folder")
+    _writable_folder(parent, what)
+    return p
+
+
+def _writable_folder(folder: Path, what: str) -> None:
+    if not folder.is_dir():
+        raise OutputError(f"the folder {folder} of the {what} does not exist or is not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputError(f"the folder {folder} of the {what} is not writable")
+    probe = folder / f".lutmpi-probe-{uuid.uuid4().hex}"
+    try:
+        os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+    except OSError as exc:
+        raise OutputError(f"the folder {folder} of the {what} is not writable "
+                          f"({exc.strerror or exc})") from None
+    try:
+        probe.unlink()
+    except OSError:         # the probe was made; a failed cleanup must not hide anything
+        pass

@@ -1,0 +1,76 @@
+"""Small profile-file faults of issue 13, item 8: each is a clear error naming the line, or is read
+right. Profiles are plain-text rails ``z = -y^2 / 200`` (a 100 mm crown radius, falling 6 mm at
+y = +-35 mm as a rail head does) written here, in lutmpi's normalized orientation."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from lutmpi.errors import ProfileError
+from lutmpi.profiles.readers import read_profile
+
+
+def _rail_text(y: np.ndarray, fmt: str = "{:.6f} {:.6f}") -> str:
+    return "# kind: rail\n" + "\n".join(fmt.format(a, -a * a / 200.0) for a in y) + "\n"
+
+
+def test_decimal_commas_are_a_clear_error_naming_the_line(tmp_path):
+    path = tmp_path / "comma.txt"
+    path.write_text(_rail_text(np.linspace(-35, 35, 71), "{:.3f};{:.3f}").replace(".", ","))
+    with pytest.raises(ProfileError, match=r"comma\.txt:2: decimal commas"):
+        read_profile(path)
+
+
+def test_utf8_bom_keeps_the_first_point(tmp_path):
+    y = np.linspace(-35, 35, 71)
+    plain, bom = tmp_path / "plain.txt", tmp_path / "bom.txt"
+    plain.write_text(_rail_text(y)[len("# kind: rail\n"):])
+    bom.write_bytes(b"\xef\xbb\xbf" + plain.read_bytes())
+    a, b = read_profile(plain, kind="rail"), read_profile(bom, kind="rail")
+    assert a.meta["trimmed"]["points_in_file"] == b.meta["trimmed"]["points_in_file"] == 71
+    assert np.array_equal(a.y, b.y) and np.array_equal(a.z, b.z)
+
+
+def test_million_point_monotonic_profile_is_read(tmp_path):
+    """Points 0.07 um apart are dense, not backtracking: thinned to the 2 um resolution."""
+    path = tmp_path / "dense.txt"
+    path.write_text(_rail_text(np.linspace(-35, 35, 1_000_000)))
+    t0 = time.perf_counter()
+    prof = read_profile(path)
+    assert prof.kind == "rail"
+    assert prof.meta["trimmed"]["points_in_file"] == 1_000_000
+    # the head is the closed form z = -y^2/600 to the written precision
+    yy = np.linspace(-0.03, 0.03, 7)
+    assert np.allclose(prof.z_at(yy),
+                       -(yy * 1e3) ** 2 / 200.0 * 1e-3, atol=1e-8)
+    assert time.perf_counter() - t0 < 60
+
+
+def test_a_step_back_in_the_head_is_still_an_error(tmp_path):
+    """Thinning dense data must not hide a step back, however small (0.5 um here)."""
+    y = np.linspace(-35, 35, 71)
+    y[40] = y[39] - 5e-4
+    path = tmp_path / "rep.txt"
+    path.write_text(_rail_text(y))
+    with pytest.raises(ProfileError, match="backtrack or repeat"):
+        read_profile(path)
+
+
+def test_single_point_spike_on_a_tread_is_an_error_naming_its_line(tmp_path, repo_root):
+    """The issue's case: one point of a measured wheel's tread (MiniProf) moved 5 mm."""
+    from lutmpi.profiles.readers import get_reader
+
+    src = repo_root / "profiles" / "avg_wheel.whl"
+    lines = src.read_text().splitlines()
+    raw = get_reader("miniprof").parse(lines, str(src))
+    line = int(raw.lines[np.argmin(np.abs(raw.y_mm - 10.0))])    # s = 10 mm: on the tread
+    a, b, *rest = lines[line - 1].split()
+    lines[line - 1] = " ".join([a, f"{float(b) + 5.0:.2f}", *rest])
+    path = tmp_path / "spike.whl"
+    path.write_text("\n".join(lines) + "\n")
+    read_profile(src)                                             # the original reads
+    with pytest.raises(ProfileError, match=rf"spike\.whl:{line}: .* single-point spike, 5"):
+        read_profile(path)
