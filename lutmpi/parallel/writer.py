@@ -213,14 +213,19 @@ class TableWriter:
         return self._journal.seconds if self._journal is not None else 0.0
 
     # -- 4. collective end ---------------------------------------------------------------------
-    def finish(self, run_attrs: dict[str, Any]) -> None:
-        """Write the table and make it appear at ``out`` (collective)."""
+    def finish(self, run_attrs: dict[str, Any], after_grid: Any = None) -> None:
+        """Write the table and make it appear at ``out`` (collective).
+
+        ``after_grid(f, io, row_start, blocks)``, when given, runs on every rank once the grid
+        is written and before ``complete`` is set (the post-build step: contact jumps)."""
         if self._journal is not None:
             self._journal.sync()      # every point is on disk before the table is written
             self._journal.close()
         self._exchange()
         f = self.io.open(self.partial, "r+")
         h5io.write_blocks(f, self.io, self.row_start, self.blocks)
+        if after_grid is not None:
+            after_grid(f, self.io, self.row_start, self.blocks)
         h5io.finalize(f, run_attrs)
         self.comm.Barrier()
         root_decides(self.comm, self._publish)

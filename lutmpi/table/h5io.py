@@ -274,3 +274,67 @@ def _plain(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
     return value
+
+
+# -- contact jumps (issue 11): /<method>/jumps, written after the grid is complete ------------
+def write_jumps(f: h5py.File, io: SerialH5, rank: int, method: str, arrays: dict[str, np.ndarray],
+                limits: dict[str, np.ndarray], knot_y: np.ndarray, knots: dict[str, np.ndarray],
+                attrs: dict[str, Any]) -> None:
+    """Create ``/<method>/jumps`` (collective with :class:`MpioH5`: every rank holds the same
+    arrays) and write it from rank 0 (the other ranks take part with empty selections)."""
+    from lutmpi.table.schema import (
+        FIELDS_BY_NAME,
+        JUMP_FIELDS_BY_NAME,
+        JUMPS_GROUP,
+        KNOT_FIELD,
+        KNOTS_GROUP,
+        LIMITS_GROUP,
+        jump_attributes,
+    )
+
+    if JUMPS_GROUP in f[method]:        # a resumed build whose jumps were already written
+        del f[method][JUMPS_GROUP]
+    g = f[method].create_group(JUMPS_GROUP)
+    for key, value in attrs.items():
+        g.attrs[key] = value
+    dxpl = io.xfer()
+    items = [(g, name, arr, jump_attributes(JUMP_FIELDS_BY_NAME[name]))
+             for name, arr in arrays.items()]
+    lg = g.create_group(LIMITS_GROUP)
+    items += [(lg, name, arr, jump_attributes(FIELDS_BY_NAME[name], limit=True))
+              for name, arr in limits.items()]
+    items.append((g, KNOT_FIELD.name, knot_y, jump_attributes(KNOT_FIELD)))
+    kg = g.create_group(KNOTS_GROUP)
+    items += [(kg, name, arr, jump_attributes(FIELDS_BY_NAME[name]))
+              for name, arr in knots.items()]
+    for group, name, arr, meta in items:
+        d = group.create_dataset(name, shape=arr.shape, dtype=arr.dtype)
+        for key, value in meta.items():
+            d.attrs[key] = value
+        if arr.size:
+            write_rows(d, 0, arr if rank == 0 else arr[:0], dxpl)
+
+
+def write_root_attributes(f: h5py.File, attrs: dict[str, Any]) -> None:
+    """Set root attributes (collective: every rank passes the same values)."""
+    for key, value in attrs.items():
+        f.attrs[key] = value
+
+
+def read_jumps(path: str | os.PathLike[str]) -> dict[str, dict[str, Any]]:
+    """``method -> {"arrays", "limits", "attrs"}`` of the jumps stored in a table (methods
+    without a jumps group are absent: a table built before jumps were stored)."""
+    from lutmpi.table.schema import JUMPS_GROUP, KNOTS_GROUP, LIMITS_GROUP
+
+    out: dict[str, dict[str, Any]] = {}
+    with h5py.File(path, "r") as f:
+        for method in json.loads(_plain(f.attrs["methods"])):
+            if JUMPS_GROUP not in f[method]:
+                continue
+            g = f[method][JUMPS_GROUP]
+            out[method] = {
+                "arrays": {k: g[k][...] for k in g if isinstance(g[k], h5py.Dataset)},
+                "limits": {k: v[...] for k, v in g[LIMITS_GROUP].items()},
+                "knots": {k: v[...] for k, v in g[KNOTS_GROUP].items()},
+                "attrs": {k: _plain(v) for k, v in g.attrs.items()}}
+    return out
