@@ -248,9 +248,8 @@ def _as_bool(value: Any, key: str, where: _Where) -> bool:
 
 
 def _as_axis(value: Any, key: str, where: _Where) -> tuple[float, float, int]:
-    """``[start, stop, count]`` with start < stop and 2 <= count, or start == stop and
-    count == 1 (a one-value axis: ``yaw_rad = [0.0, 0.0, 1]`` makes a 1-D table in y);
-    inside the axis limits."""
+    """``[start, stop, count]`` with start < stop and 2 <= count, or one value (start == stop,
+    count 1: a 1-D table), inside the axis limits."""
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise _expect(where, key, "[start, stop, count]", value)
     start = _as_float(value[0], key, where)
@@ -258,12 +257,13 @@ def _as_axis(value: Any, key: str, where: _Where) -> tuple[float, float, int]:
     count = _as_int(value[2], key, where)
     limit, unit = _GRID_LIMITS[key]
     if count == 1 and start == stop:
-        pass
+        pass   # a single value: the table is 1-D along this axis
     elif not start < stop:
         raise where.error(key, f"expected start < stop (or start == stop with count 1), got "
                                f"start={start:g}, stop={stop:g}")
     elif not 2 <= count <= MAX_GRID_COUNT:
-        raise where.error(key, f"expected a count in [2, {MAX_GRID_COUNT}], got {count}")
+        raise where.error(key, f"expected a count in [2, {MAX_GRID_COUNT}] (or 1 with start == "
+                               f"stop), got {count}")
     if max(abs(start), abs(stop)) > limit:
         raise where.error(key, f"expected values within ±{limit:g} {unit}, "
                                f"got [{start:g}, {stop:g}]")

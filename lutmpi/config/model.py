@@ -301,6 +301,7 @@ class OutputConfig:
 
     methods: tuple[str, ...] = ("load_centre",)
     quantities: tuple[str, ...] = ("all",)
+    refine: bool = True     # refine the pieces between contact jumps (lutmpi/table/jumps.py)
 
 
 @dataclass(frozen=True)

@@ -54,6 +54,13 @@ def empty_records(fields: Sequence[Field], methods: Iterable[str], n: int) -> Re
     return {m: {f.name: f.empty((n,)) for f in fields} for m in methods}
 
 
+def slot_order(contacts: Iterable[Any]) -> list[Any]:
+    """A wheel's contacts in slot order: by decreasing normal force, stable (slot 0 = primary).
+    A NaN force (the rigid ``reference`` solve) keeps the solver's order, whose first contact is
+    the rigid contact itself. ``lutmpi solve``'s primary contact is slot 0 of this order."""
+    return sorted(contacts, key=lambda c: -float(c.force))
+
+
 def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
     """Write ``result`` into row ``i`` of the per-method arrays ``out`` (only the fields present).
 
@@ -69,7 +76,7 @@ def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
     if not wanted:
         return
     for iside, side in enumerate(SIDES):
-        contacts = sorted(result.contacts.get(side, []), key=lambda c: -float(c.force))
+        contacts = slot_order(result.contacts.get(side, []))
         for slot, contact in enumerate(contacts[:N_SLOTS]):
             for name, attr in wanted:
                 out[name][i, iside, slot] = getattr(contact, attr)
