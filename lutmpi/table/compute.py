@@ -22,7 +22,7 @@ Records = dict[str, dict[str, np.ndarray]]   # method -> field name -> array (n_
 
 _POINT_ATTRS = {"x_g": "x_g", "z_g": "z_g", "roll": "roll", "pitch": "pitch", "status": "status",
                 "iterations": "nit", "compute_time": "time", "kc": "kc",
-                "indentation_max": "indentation"}
+                "indentation_max": "indentation", "n_roots": "n_roots"}
 _CONTACT_ATTRS = {"wheel_point": "wheel_point", "rail_point": "rail_point", "normal": "normal",
                   "indentation": "indentation", "kc_contact": "kc", "force": "force",
                   "rolling_radius": "rolling_radius", "contact_angle": "contact_angle",
@@ -54,6 +54,13 @@ def empty_records(fields: Sequence[Field], methods: Iterable[str], n: int) -> Re
     return {m: {f.name: f.empty((n,)) for f in fields} for m in methods}
 
 
+def slot_order(contacts: Iterable[Any]) -> list[Any]:
+    """A wheel's contacts in slot order: by decreasing normal force, stable (slot 0 = primary).
+    A NaN force (the rigid ``reference`` solve) keeps the solver's order, whose first contact is
+    the rigid contact itself. ``lutmpi solve``'s primary contact is slot 0 of this order."""
+    return sorted(contacts, key=lambda c: -float(c.force))
+
+
 def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
     """Write ``result`` into row ``i`` of the per-method arrays ``out`` (only the fields present).
 
@@ -69,7 +76,7 @@ def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
     if not wanted:
         return
     for iside, side in enumerate(SIDES):
-        contacts = sorted(result.contacts.get(side, []), key=lambda c: -float(c.force))
+        contacts = slot_order(result.contacts.get(side, []))
         for slot, contact in enumerate(contacts[:N_SLOTS]):
             for name, attr in wanted:
                 out[name][i, iside, slot] = getattr(contact, attr)
