@@ -14,9 +14,11 @@ Aggregates (named tuples, built once per mesh or window; numba types them as rec
   each wheel node, wheelset-frame ``body_pts, body_nrm`` (n, 3), track-frame ``rail_pts,
   rail_nrm`` (m, 3);
 * :class:`Pose` -- ``centre`` (3,) m and rotation ``R`` (3, 3) of the wheelset;
-* :class:`Contacts` -- what a method's stage returns: ``n`` volumes, and per volume (first
+* :class:`Contacts` -- what a method's stage fills: ``n`` volumes, and per volume (first
   ``n`` rows of :data:`MAX_VOL`) wheel point, rail point, wheel outward normal, indentation
-  ``C`` (m), profile coordinate ``s`` (m), node counts.
+  ``C`` (m), profile coordinate ``s`` (m), node counts; all of them views of one array ``buf``
+  (:data:`COLUMNS`), so that a stage returns ``(n, buf)`` (:func:`packed`) and crossing back to
+  Python boxes one array instead of seven.
 """
 
 from __future__ import annotations
@@ -70,8 +72,14 @@ class Pose(NamedTuple):
     R: np.ndarray
 
 
+#: the columns of a :class:`Contacts` buffer
+COLUMNS = {"wheel_point": slice(0, 3), "rail_point": slice(3, 6), "n_wheel": slice(6, 9),
+           "C": 9, "s": 10, "n_wheel_nodes": 11, "n_rail_nodes": 12}
+
+
 class Contacts(NamedTuple):
     n: int
+    buf: np.ndarray
     wheel_point: np.ndarray
     rail_point: np.ndarray
     n_wheel: np.ndarray
@@ -212,10 +220,18 @@ def search_wheel_nodes(win, rail, pose):
 
 @njit(cache=True)
 def empty_contacts(ws):
-    """The :class:`Contacts` arrays of a search, to be filled by a method's stage."""
-    return Contacts(ws.nvol, np.zeros((MAX_VOL, 3)), np.zeros((MAX_VOL, 3)),
-                    np.zeros((MAX_VOL, 3)), np.full(MAX_VOL, -1e300), np.zeros(MAX_VOL),
-                    ws.n_nodes.copy(), np.zeros(MAX_VOL, dtype=np.int64))
+    """The :class:`Contacts` of a search, to be filled by a method's stage."""
+    buf = np.zeros((MAX_VOL, 13))
+    buf[:, 9] = -1e300
+    buf[:, 11] = ws.n_nodes
+    return Contacts(ws.nvol, buf, buf[:, 0:3], buf[:, 3:6], buf[:, 6:9], buf[:, 9], buf[:, 10],
+                    buf[:, 11], buf[:, 12])
+
+
+@njit(cache=True)
+def packed(out):
+    """What a method's stage returns: ``(n, buf)`` of its :class:`Contacts`."""
+    return out.n, out.buf
 
 
 @njit(cache=True)
