@@ -19,8 +19,9 @@ Representation (built once per table and method, :func:`build`):
   own jump lies on the other side of the query is evaluated by extending its piece (a short
   extrapolation, never a blend of two sides). The contact varies about quadratically with yaw
   (evenly around yaw 0), which linear blending misses by c h^2 / 4: 59 um of rolling radius on
-  the Manchester flange at 5 mrad steps, 4.8 um with the cubic. Where an outer column does not
-  share the jumps the slope there is one-sided; where the two columns do not, each answers with
+  the Manchester flange at 5 mrad steps, 4.8 um with the cubic. In an edge cell, or where an
+  outer column does not share the jumps, the slope there is the second-order one-sided one (or
+  the secant when neither outer column answers); where the two columns do not, each answers with
   its own piece and the blend is linear (flag :data:`UNMATCHED`).
 
 Queries:
@@ -534,12 +535,20 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw
         mb = b - a
         sa = db - da
         sb = db - da
-        if lower and np.isfinite(tmp_v[0, c]):
+        lo_ok = lower and np.isfinite(tmp_v[0, c])
+        up_ok = upper and np.isfinite(tmp_v[3, c])
+        if lo_ok:
             ma = 0.5 * (b - tmp_v[0, c])
             sa = 0.5 * (db - tmp_d[0, c])
-        if upper and np.isfinite(tmp_v[3, c]):
+            if not up_ok:        # edge cell: second-order one-sided slope at j + 1
+                mb = 0.5 * (3 * b - 4 * a + tmp_v[0, c])
+                sb = 0.5 * (3 * db - 4 * da + tmp_d[0, c])
+        if up_ok:
             mb = 0.5 * (tmp_v[3, c] - a)
             sb = 0.5 * (tmp_d[3, c] - da)
+            if not lo_ok:        # edge cell: second-order one-sided slope at j
+                ma = 0.5 * (-3 * a + 4 * b - tmp_v[3, c])
+                sa = 0.5 * (-3 * da + 4 * db - tmp_d[3, c])
         if w == 1.0:
             out_v[c] = b
             out_dy[c] = db
