@@ -55,6 +55,9 @@ T_PARITY = "tests/unit/test_table_parity.py"
 T_PART = "tests/unit/test_table_partition.py"
 T_SCHEMA = "tests/unit/test_table_schema.py"
 T_WRITER = "tests/unit/test_table_writer.py"
+T_INTERP = "tests/unit/test_interp_nearest.py"
+T_BATCH = ("tests/integration/test_real_solver_parity.py::"
+           "test_static_split_with_multi_point_batches_equals_serial")
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
 
 
@@ -198,7 +201,8 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("writer_row_offset", "table writer", "lutmpi/parallel/writer.py",
       "                        self.blocks[m][k][rows, iyaw] = v",
       "                        self.blocks[m][k][rows, iyaw[::-1]] = v",
-      (T_API, T_PARITY, T_STORED, T_WRITER), "writer puts points in mirrored yaw columns"),
+      (T_API, T_PARITY, T_STORED, T_WRITER, T_BATCH),
+      "writer puts the points of a batch in mirrored yaw columns"),
     M("reader_mask", "table reader", "lutmpi/table/api.py",
       "        source = self.data[method] if raw else self._masked[method]",
       "        source = self.data[method]", (T_API,),
@@ -206,11 +210,11 @@ MUTATIONS: tuple[Mutation, ...] = (
     # -- interpolation ---------------------------------------------------------------------------
     M("interp_weight", "interpolation", "lutmpi/table/interp.py",
       "    w = (x - axis[i]) / (axis[i + 1] - axis[i])",
-      "    w = (x - axis[i]) / (axis[i + 1] - axis[i - 1])", (T_API,),
+      "    w = (x - axis[i]) / (axis[i + 1] - axis[i - 1])", (T_API, T_INTERP),
       "bilinear weight over two cells"),
     M("interp_nearest", "interpolation", "lutmpi/table/interp.py",
       "    i = np.minimum(st.i0 + (st.wy >= 0.5), ny - 1)",
-      "    i = np.minimum(st.i0 + (st.wy >= 0.9), ny - 1)", (T_API,),
+      "    i = np.minimum(st.i0 + (st.wy >= 0.9), ny - 1)", (T_API, T_INTERP),
       "nearest node of integer data rounds at 0.9"),
     # -- partitioning -----------------------------------------------------------------------------
     M("block_extra", "partitioning", "lutmpi/parallel/partition.py",

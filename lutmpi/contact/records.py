@@ -11,7 +11,7 @@ SIDE_SIGN = {"left": 1.0, "right": -1.0}
 
 
 def contact_record(
-    scene,
+    sd,
     side: float,
     wheel_point: np.ndarray,
     rail_point: np.ndarray,
@@ -21,8 +21,9 @@ def contact_record(
     kc: float,
 ) -> ContactResult:
     """One contact's stored record (track frame, SI); ``normal`` from the rail into the wheel,
-    ``s`` the wheel profile coordinate, ``kc`` the contact's stiffness (NaN: rigid)."""
-    wheel, rail = scene.wheel, scene.rail
+    ``s`` the wheel profile coordinate, ``kc`` the contact's stiffness (NaN: rigid); ``sd``
+    the :class:`~lutmpi.scene.SideScene` of the wheel."""
+    wheel, rail = sd.wheel, sd.rail
     u_r = side * rail_point[1]
     dr = float(wheel.dr(s))
     r = float(wheel.radius(s))
@@ -45,11 +46,20 @@ def contact_record(
 
 def contact_records(scene, rows: list[tuple]) -> list[ContactResult]:
     """:func:`contact_record` for several contacts at once (one spline evaluation per quantity
-    for all of them; the same numbers): ``rows`` of ``(side, wheel_point, rail_point, normal, C,
-    s, kc)``."""
-    if not rows:
-        return []
-    wheel, rail = scene.wheel, scene.rail
+    and side for all of them; the same numbers): ``rows`` of ``(side, wheel_point, rail_point,
+    normal, C, s, kc)``; each side's own wheel and rail (``scene.side(name)``)."""
+    out: list[ContactResult | None] = [None] * len(rows)
+    for name, sign in SIDE_SIGN.items():
+        idx = [i for i, r in enumerate(rows) if r[0] == sign]
+        if idx:
+            for i, rec in zip(idx, _side_records(scene.side(name), [rows[i] for i in idx]),
+                              strict=True):
+                out[i] = rec
+    return out
+
+
+def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
+    wheel, rail = sd.wheel, sd.rail
     side = np.array([r[0] for r in rows])
     rp = np.array([r[2] for r in rows])
     s = np.array([float(r[5]) for r in rows])
@@ -59,7 +69,7 @@ def contact_records(scene, rows: list[tuple]) -> list[ContactResult]:
     cw = wheel.convex_curvature(s)
     cr = rail.convex_curvature(np.clip(u_r, rail.u_min, rail.u_max))
     out = []
-    for i, (sd, wp, rpi, n, C, si, kc) in enumerate(rows):
+    for i, (sg, wp, rpi, n, C, si, kc) in enumerate(rows):
         r, d = float(rad[i]), float(dr[i])
         out.append(ContactResult(
             wheel_point=np.asarray(wp, float),
@@ -69,7 +79,7 @@ def contact_records(scene, rows: list[tuple]) -> list[ContactResult]:
             kc=float(kc),
             force=float(kc * C) if np.isfinite(kc) else float("nan"),
             rolling_radius=r,
-            contact_angle=float(np.arctan2(-sd * n[1], n[2])),
+            contact_angle=float(np.arctan2(-sg * n[1], n[2])),
             wheel_s=float(si),
             rail_v=float(v[i]),
             wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + d * d)),

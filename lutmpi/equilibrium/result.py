@@ -10,16 +10,17 @@ import numpy as np
 STATUS = {
     0: "converged",
     1: "max_iterations: the iteration budget (equilibrium.max_iterations) ran out",
-    2: "no_contact: a wheel found no contact within the mesh window",
+    2: "no_contact: no rigid two-wheel contact exists, or a wheel found none in its mesh window",
     3: "kc_limit: k_c reached its upper limit before the indentation was allowed",
     4: "equilibrium_failed: the equilibrium solve did not converge at some k_c",
     5: "window_too_small: the intersecting volume touched the mesh window edge",
     6: "not_computed",
     7: "error: an exception was raised while solving this point",
     8: "time_budget: the pose's wall-time budget (equilibrium.max_pose_time_s) ran out",
+    9: "profile_end: a contact lies on or beyond the end of a profile's data",
 }
 (CONVERGED, MAX_ITER, NO_CONTACT, KC_LIMIT, EQ_FAILED, WINDOW, NOT_COMPUTED, ERROR,
- TIME_BUDGET) = range(9)
+ TIME_BUDGET, PROFILE_END) = range(10)
 SIDES = ("left", "right")
 
 
@@ -62,6 +63,7 @@ class PoseResult:
     contacts: dict[str, list[ContactResult]] = field(
         default_factory=lambda: {"left": [], "right": []})
     time: float = 0.0             # s, CPU time of this solve
+    n_roots: int = 0              # rigid two-wheel contact solutions found (locus roll scan)
 
     @property
     def n_contacts(self) -> dict[str, int]:

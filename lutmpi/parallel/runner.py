@@ -55,7 +55,7 @@ from lutmpi.table.schema import SCHEMA_VERSION, select_fields
 
 log = logging.getLogger(__name__)
 
-#: a rank looks at the clock (checkpoint, progress) this many times over its points, at most
+#: a static split hands a rank its points in at most this many batches (progress per batch)
 N_STEPS = 200
 PROGRESS_EVERY_S = 10.0
 
@@ -118,7 +118,7 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
                 solver: Solver | None = None, force: bool = False, resume: bool = False,
                 methods: Sequence[str] | None = None,
                 scene_factory: Callable[[Config], Any] | None = None,
-                checkpoint_interval_s: float = 60.0, split: str = "dynamic") -> BuildSummary:
+                checkpoint_interval_s: float = 10.0, split: str = "dynamic") -> BuildSummary:
     """Build the lookup table of ``config`` into ``output_path``.
 
     Parameters

@@ -145,6 +145,10 @@ class TableWriter:
             raise TableError(f"cannot resume {self.out}: {self.partial} has no journal "
                              f"{jdir.name}/ (written by an older lutmpi, or removed); pass --force "
                              "to start over")
+        if not (jdir / journal.HEADER_NAME).exists() and not journal.record_files(jdir):
+            log.info("the journal %s was never started (killed while creating it): starting "
+                     "afresh", jdir)
+            return Plan(resume=False, done=None, run_id=journal.new_run_id())
         header = journal.read_header(jdir)
         diffs = provenance.differences(header.inputs, self.inputs)
         if diffs:

@@ -22,7 +22,7 @@ Records = dict[str, dict[str, np.ndarray]]   # method -> field name -> array (n_
 
 _POINT_ATTRS = {"x_g": "x_g", "z_g": "z_g", "roll": "roll", "pitch": "pitch", "status": "status",
                 "iterations": "nit", "compute_time": "time", "kc": "kc",
-                "indentation_max": "indentation"}
+                "indentation_max": "indentation", "n_roots": "n_roots"}
 _CONTACT_ATTRS = {"wheel_point": "wheel_point", "rail_point": "rail_point", "normal": "normal",
                   "indentation": "indentation", "kc_contact": "kc", "force": "force",
                   "rolling_radius": "rolling_radius", "contact_angle": "contact_angle",

@@ -145,6 +145,21 @@ def finalize(f: h5py.File, attrs: dict[str, Any]) -> None:
     f.close()
 
 
+def read_attrs(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """The root attributes of an HDF5 file (any state, complete or not) as plain values.
+
+    Raises
+    ------
+    TableError
+        Missing or unreadable file.
+    """
+    try:
+        with h5py.File(path, "r") as f:
+            return {k: _plain(v) for k, v in f.attrs.items()}
+    except OSError as exc:
+        raise TableError(f"{path}: not a readable HDF5 file ({exc})") from exc
+
+
 def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Read a complete table into memory (serial h5py).
 
@@ -185,7 +200,8 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
         raise TableError(f"{path}: schema version {version} is newer than this lutmpi "
                          f"understands ({SCHEMA_VERSION}); upgrade lutmpi to read it")
     if not attrs.get("complete", False):
-        raise TableError(f"{path}: the table is incomplete (its build did not finish)")
+        raise TableError(f"{path}: the table is incomplete (its build did not finish)"
+                         + _journal_note(path))
     for key in ("methods", "config_toml"):
         if key not in attrs:
             raise TableError(f"{path}: damaged table: root attribute {key!r} is missing")
@@ -221,6 +237,23 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
         meta[name] = {k: {a: _plain(v) for a, v in g[k].attrs.items()
                           if a not in ("DIMENSION_LIST",)} for k in order}
     return {"attrs": attrs, "y": y, "yaw": yaw, "methods": methods, "meta": meta}
+
+
+def _journal_note(path: Path) -> str:
+    """``"; N of M points are journaled ... --resume"`` for the partial file of a build."""
+    from lutmpi.table import journal
+
+    if not path.name.endswith(".partial"):
+        return ""
+    out = path.with_name(path.name.removesuffix(".partial"))
+    try:
+        header = journal.read_header(journal.journal_dir(out))
+        done = journal.done_points(journal.journal_dir(out))
+    except (TableError, OSError, KeyError, ValueError):
+        return ""
+    total = int(np.prod(header.shape))
+    return (f"; {done.size} of {total} points are journaled in {journal.journal_dir(out).name}/: "
+            f"`lutmpi build CONFIG -o {out} --resume` continues it")
 
 
 def _dataset(group: h5py.Group, path: Path, name: str, ndim: int | None) -> np.ndarray:

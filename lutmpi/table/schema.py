@@ -93,6 +93,8 @@ FIELDS: tuple[Field, ...] = (
     Field("kc", "f8", (), "N/m", "final contact stiffness scale k_c"),
     Field("indentation_max", "f8", (), "m", "final maximum indentation over both wheels"),
     Field("n_contacts", "i1", (len(SIDES),), "", "number of contacts per wheel [left, right]"),
+    Field("n_roots", "i1", (), "", "rigid two-wheel contact solutions found over the admissible "
+          "roll range (0: none; > 1: the stable one of lowest z_g is stored)"),
     # per wheel x contact slot
     Field("wheel_point", "f8", _V, "m", "contact point on the wheel, track frame (x, y, z)"),
     Field("rail_point", "f8", _V, "m", "contact point on the rail, track frame (x, y, z)"),

@@ -105,6 +105,21 @@ def test_final_indentation_is_allowed(table, m):
 
 
 @pytest.mark.parametrize("m", MESH)
+def test_double_contacts_fill_both_slots_largest_force_first(table, m):
+    """§4.6 and the schema: a wheel in double contact (tread and flange root, S1002/UIC60 1:20
+    at y = ±6 mm, yaw 0 -- where the rigid locus also has two touching minima) stores both
+    contacts, slot 0 the one carrying the larger normal force; n_contacts counts them."""
+    c = _contacts(table, m)
+    both = c["present"][..., 0] & c["present"][..., 1]
+    assert both.any(), "no double contact on the grid: the check would be vacuous"
+    assert np.all(c["force"][..., 0][both] >= c["force"][..., 1][both])
+    np.testing.assert_array_equal(c["n_contacts"], c["present"].sum(axis=-1))
+    # the rigid reference has its double contacts at the same poses (±6 mm, yaw 0)
+    ref = table["reference"]["n_contacts"]
+    assert np.all(ref[both.any(axis=-1)].max(axis=-1) == 2)
+
+
+@pytest.mark.parametrize("m", MESH)
 def test_force_is_stiffness_times_indentation(table, m):
     """Eq. (8): F = k_c C along the normal, with the contact's own (flange-scaled) stiffness."""
     c = _contacts(table, m)
