@@ -120,6 +120,11 @@ QUANTITY_FIELDS: dict[str, tuple[str, ...]] = {
 }
 #: stored whatever ``[output] quantities`` says (:data:`lutmpi.config.model.ALWAYS_STORED`)
 ALWAYS_STORED = ("status", "iterations", "compute_time")
+#: every selectable ``[output] quantities`` name, derived from :data:`FIELDS` in schema order: a
+#: field's group of :data:`QUANTITY_FIELDS` or the field itself, the always-stored ones left out
+QUANTITIES: tuple[str, ...] = tuple(dict.fromkeys(
+    next((q for q, names in QUANTITY_FIELDS.items() if f.name in names), f.name)
+    for f in FIELDS if f.name not in ALWAYS_STORED))
 CONTACT_DIMS = "y, yaw, side [0=left, 1=right], slot [0=largest force, 1=second contact]"
 
 
@@ -134,7 +139,7 @@ def select_fields(quantities: Iterable[str]) -> tuple[Field, ...]:
     Parameters
     ----------
     quantities : iterable of str
-        ``("all",)`` or names from :data:`lutmpi.config.model.QUANTITIES` (or dataset names);
+        ``("all",)`` or names from :data:`QUANTITIES` (or dataset names);
         :data:`ALWAYS_STORED` are always added.
 
     Returns
@@ -147,8 +152,6 @@ def select_fields(quantities: Iterable[str]) -> tuple[Field, ...]:
     ConfigError
         On an unknown name (the message lists the valid ones).
     """
-    from lutmpi.config.model import QUANTITIES
-
     wanted = set(quantities)
     if "all" in wanted:
         return FIELDS
