@@ -1,48 +1,41 @@
-"""Issue 15, outputs' part: exports, reports and their commands never spell a dataset name.
+"""The schema is the only list of dataset names (issue 15).
 
-Every list of stored quantities there comes from ``lutmpi.table.schema`` (``FIELDS`` or the name
-tuple ``D``); this test walks the AST of those modules and fails on a string constant equal to a
-dataset name (docstrings aside; a line marked ``# not a dataset`` is a key of something else,
-e.g. the sweep index's member status).
+1. Every dataset of ``table/schema.py`` is filled from the pose result by its name: a per-point
+   field from the :class:`PoseResult` attribute of that name, a per-contact field from the
+   :class:`ContactResult` attribute (``table/compute.py``: one short alias map for older names).
 """
 
 from __future__ import annotations
 
-import ast
+import dataclasses
 
+import numpy as np
 import pytest
 
-from lutmpi.paths import REPO_ROOT
-from lutmpi.table.schema import FIELDS, D
-
-PKG = REPO_ROOT / "lutmpi"
-AREA = sorted((PKG / "reports").glob("*.py")) + sorted((PKG / "export").glob("*.py")) + [
-    PKG / "commands" / f"{n}.py" for n in ("report", "export", "conicity", "plot", "solve")]
-NAMES = {f.name for f in FIELDS}
+from lutmpi.equilibrium.result import ContactResult, PoseResult
+from lutmpi.table.compute import ATTRIBUTE_OF, DERIVED, fill_record, result_attribute
+from lutmpi.table.schema import FIELDS, FIELDS_BY_NAME
 
 
-def literal_names(source: str) -> list[tuple[int, str]]:
-    tree = ast.parse(source)
-    docs = {id(n.body[0].value) for n in ast.walk(tree)
-            if isinstance(n, ast.Module | ast.FunctionDef | ast.ClassDef | ast.AsyncFunctionDef)
-            and n.body and isinstance(n.body[0], ast.Expr)
-            and isinstance(n.body[0].value, ast.Constant)}
-    lines = source.splitlines()
-    return [(n.lineno, n.value) for n in ast.walk(tree)
-            if isinstance(n, ast.Constant) and isinstance(n.value, str) and n.value in NAMES
-            and id(n) not in docs and "# not a dataset" not in lines[n.lineno - 1]]
+def _attributes(cls) -> set[str]:
+    return {f.name for f in dataclasses.fields(cls)} | {
+        n for n, v in vars(cls).items() if isinstance(v, property)}
 
 
-@pytest.mark.parametrize("path", AREA, ids=lambda p: str(p.relative_to(PKG)))
-def test_no_dataset_name_literal(path):
-    assert literal_names(path.read_text()) == [], path
+def test_every_field_is_an_attribute_of_the_pose_result():
+    point, contact = _attributes(PoseResult), _attributes(ContactResult)
+    missing = [f.name for f in FIELDS if f.name not in DERIVED
+               and result_attribute(f.name) not in (contact if f.per_contact else point)]
+    assert not missing, f"schema fields with no result attribute to fill them from: {missing}"
 
 
-def test_the_check_finds_a_literal():
-    assert literal_names('x = t.get("rolling_radius")\n') == [(1, "rolling_radius")]
-    assert literal_names('x = t.get("rolling_radius")  # not a dataset\n') == []
+def test_alias_map_names_only_schema_fields():
+    # a stale alias (a renamed or removed field) would silently never be used
+    assert set(ATTRIBUTE_OF) | set(DERIVED) <= set(FIELDS_BY_NAME)
 
 
-def test_names_tuple_is_the_schema():
-    assert list(D._fields) == [f.name for f in FIELDS]
-    assert all(getattr(D, f.name) == f.name for f in FIELDS)
+def test_a_field_without_an_attribute_fails_loudly(monkeypatch):
+    # a new schema line whose value nobody produces must not become a silent column of NaN
+    monkeypatch.setitem(FIELDS_BY_NAME, "not_a_result_attribute", FIELDS_BY_NAME["z_g"])
+    with pytest.raises(AttributeError, match="not_a_result_attribute"):
+        fill_record({"not_a_result_attribute": np.zeros(1)}, 0, PoseResult(0.0, 0.0, "reference"))
