@@ -22,12 +22,12 @@ Records = dict[str, dict[str, np.ndarray]]   # method -> field name -> array (n_
 
 #: a dataset is read from the :class:`PoseResult` (per point) or :class:`ContactResult` (per
 #: contact) attribute of the same name; these datasets keep older attribute names (dataset -> attr)
-ATTRIBUTE_OF = {"iterations": "nit", "compute_time": "time", "indentation_max": "indentation",
-                "kc_contact": "kc", "curv_wheel_rolling": "wheel_curv_rolling",
-                "curv_wheel_transverse": "wheel_curv_transverse",
-                "curv_rail_transverse": "rail_curv_transverse"}
+ATTRIBUTE_OF = {D.iterations: "nit", D.compute_time: "time", D.indentation_max: "indentation",
+                D.kc_contact: "kc", D.curv_wheel_rolling: "wheel_curv_rolling",
+                D.curv_wheel_transverse: "wheel_curv_transverse",
+                D.curv_rail_transverse: "rail_curv_transverse"}
 #: point datasets that are not an attribute of the result (filled from its contacts)
-DERIVED = ("n_contacts",)
+DERIVED = (D.n_contacts,)
 
 
 def result_attribute(name: str) -> str:

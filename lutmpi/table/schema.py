@@ -188,6 +188,9 @@ def dataset_attributes(field: Field) -> dict[str, str]:
 #: ``D.rolling_radius == "rolling_radius"``: code outside this module names datasets through ``D``,
 #: so a renamed or removed field fails where it is used instead of reading a missing key
 D = namedtuple("DatasetNames", [f.name for f in FIELDS])(*(f.name for f in FIELDS))
+#: the root datasets: the table's axes and dimension scales, ``/y`` (m) and ``/yaw`` (rad)
+Y_AXIS, YAW_AXIS = "y", "yaw"
+AXES = (Y_AXIS, YAW_AXIS)
 
 
 # -- contact jumps (issue 11): /<method>/jumps/ -----------------------------------------------
@@ -230,6 +233,9 @@ JUMP_FIELDS_BY_NAME = {f.name: f for f in JUMP_FIELDS}
 KNOT_FIELD = JumpField("knot_y", "f8", "m", "extra knot position: a pose solved after the build "
                        "(jump bisection or refinement), sorted per yaw, NaN padded")
 KNOTS_GROUP = "knots"
+#: ``J.jump_y == "jump_y"``: the datasets of ``/<method>/jumps/`` by name, as :data:`D`
+J = namedtuple("JumpDatasetNames", [f.name for f in JUMP_FIELDS + (KNOT_FIELD,)])(
+    *(f.name for f in JUMP_FIELDS + (KNOT_FIELD,)))
 #: dims of every limit dataset ``/<method>/jumps/limits/<field>``: shape (nyaw, K, 2) + suffix
 LIMIT_DIMS = "yaw, jump, side of the jump [0 = at jump_y_lo, 1 = at jump_y_hi], field dims"
 
