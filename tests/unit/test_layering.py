@@ -58,8 +58,6 @@ ALLOWED: dict[tuple[str, str], str] = {
         "solve_pose (contact/) returns PoseResult / status codes of equilibrium/",
     ("lutmpi.contact.methods.reference", "lutmpi.equilibrium.result"):
         "the reference method builds a PoseResult",
-    ("lutmpi.contact.records", "lutmpi.equilibrium.result"):
-        "contact records are ContactResult, a type declared in equilibrium/result.py",
     # rule 1: a setup script inside a pure package builds a Scene (the config-level bundle)
     ("lutmpi.contact.warmup", "lutmpi.scene"):
         "kernel warm-up (run by scripts/setup.sh) builds a Scene; belongs above contact/",
