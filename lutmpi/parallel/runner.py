@@ -51,7 +51,7 @@ from lutmpi.parallel.writer import TableWriter
 from lutmpi.table.compute import Solver, compute_points, default_solver
 from lutmpi.table.grid import Grid
 from lutmpi.table.provenance import input_record
-from lutmpi.table.schema import SCHEMA_VERSION, select_fields
+from lutmpi.table.schema import SCHEMA_VERSION, D, select_fields
 
 log = logging.getLogger(__name__)
 
@@ -313,7 +313,7 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
                wall: float) -> BuildSummary:
     counts = np.zeros(len(STATUS), dtype=np.int64)
     for rec in writer.blocks.values():
-        codes = rec["status"].ravel().astype(np.int64)
+        codes = rec[D.status].ravel().astype(np.int64)
         counts += np.bincount(codes[(codes >= 0) & (codes < len(STATUS))], minlength=len(STATUS))
     counts = comm.allreduce(counts)
     names = {code: text.split(":")[0] for code, text in STATUS.items()}
