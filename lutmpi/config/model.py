@@ -18,13 +18,9 @@ from lutmpi.contact.methods import METHOD_NAMES as ALL_METHODS  # noqa: E402, F4
 WHEEL_GENERATORS = ("S1002",)
 RAIL_GENERATORS = ("UIC60",)
 EQUILIBRIUM_SOLVERS = ("newton", "fixed_point")
-# Per-point quantities a table can hold (``[output] quantities``; "all" = every one). The names are
-# the dataset names of ``lutmpi/table/schema.py``. ALWAYS_STORED are written whatever is selected.
-QUANTITIES = ("z_g", "roll", "x_g", "pitch", "wheel_point", "rail_point", "normal", "indentation",
-              "kc", "rolling_radius", "contact_angle", "wheel_s", "rail_v", "curvatures",
-              "n_contacts", "force", "n_roots")
-ALWAYS_STORED = ("status", "iterations", "compute_time")
-
+# Per-point quantities a table can hold (``[output] quantities``; "all" = every one), derived from
+# the schema, the only list of dataset names. ALWAYS_STORED are written whatever is selected.
+from lutmpi.table.schema import ALWAYS_STORED, QUANTITIES  # noqa: E402, F401
 
 SIDE_NAMES = ("left", "right")
 WHEEL_ORIGINS = ("tape_circle", "flange_back")

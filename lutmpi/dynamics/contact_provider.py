@@ -291,7 +291,7 @@ class TableProvider:
                                 float(table.attribute("wheel_flange_angle")))
         q = ip.kv.shape[2]
         self._v, self._dy, self._dw = np.empty(q), np.empty(q), np.empty(q)
-        self._tv, self._td = np.empty(q), np.empty(q)
+        self._tv, self._td = np.empty((4, q)), np.empty((4, q))
         self._last_good: ContactGeometry | None = None
         self.calls = 0
 
@@ -342,9 +342,8 @@ class TableProvider:
         v = self._v
         z_g = float(v[self._slot[D.z_g][0]])
         if not math.isfinite(z_g):
-            if self._last_good is None:
-                raise ValueError(f"table point at y = {y * 1e3:.4f} mm, yaw = {yaw:.5f} rad "
-                                 "failed and no good geometry was seen yet")
+            if self._last_good is None:        # NaN geometry, no contact: data, not a number
+                return self._geometry(y, yaw, FAILED_POINT, int(piece))
             return replace(self._last_good, y=y, yaw=yaw, status=FAILED_POINT, piece=piece)
         geom = self._geometry(y, yaw, status, int(piece))
         if status == GEOMETRY_OK:

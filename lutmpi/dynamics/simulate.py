@@ -285,9 +285,11 @@ def _integrate(rhs: Any, provider: Any, memo: _Memo, duration: float, x0: np.nda
     t, x, crossings = 0.0, np.asarray(x0, float), []
     while True:
         if table:
-            g = provider.evaluate(x[0], x[1])
-            if g.status != GEOMETRY_OK:
-                code = ON_FAILED_POINT if g.status == FAILED_POINT else LEFT_TABLE
+            status = provider.status(x[0], x[1])
+            if status != GEOMETRY_OK:
+                code = ON_FAILED_POINT if status == FAILED_POINT else LEFT_TABLE
+                out.t.append(np.array([t]))
+                out.y.append(np.asarray(x, float)[:, None])
                 return out.done(), _stop_message(code, t, x, provider), crossings
         te = t_eval[(t_eval > t) | ((t_eval == t) & (t == 0.0))]
         if t >= duration:

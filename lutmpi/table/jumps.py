@@ -54,11 +54,12 @@ TOL_M = 5e-6
 MAX_PER_CELL = 4
 #: refinement: largest miss of the straight line at an interval's midpoint, per checked quantity
 #: (m, rad, m, rad); refined below, down to intervals of MIN_WIDTH_M
-REFINE_TOL = {D.rolling_radius: 1.5e-6, D.contact_angle: 1.5e-4, D.z_g: 2e-6, D.roll: 2e-5}
+REFINE_TOL = {D.rolling_radius: 1e-6, D.contact_angle: 1e-4, D.z_g: 2e-6, D.roll: 2e-5}
 MIN_WIDTH_M = 1e-6
 #: a child interval is refined further only if its miss fell below this fraction of its parent's
-#: (a smooth function: 1/4 per halving, a kink: 1/2; solver noise does not fall: stop there)
-REFINE_GAIN = 0.7
+#: (a smooth function: 1/4 per halving, a kink: 1/2, a square-root onset next to a jump: 0.71;
+#: solver noise does not fall: stop there)
+REFINE_GAIN = 0.8
 
 Record = dict[str, np.ndarray]
 PoseSolver = Callable[[float, float], Record]

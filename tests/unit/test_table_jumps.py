@@ -265,3 +265,27 @@ def test_table_error_report_equals_a_direct_recomputation(tmp_path):
     assert res.max_away("rolling_radius", "linear") > 1e-4    # linear blends across the jumps
     assert table_error.cheapest([res], {"rolling_radius": 5e-6}) is res
     assert table_error.cheapest([res], {"rolling_radius": 1e-12}) is None
+
+
+def test_simulate_reaching_a_failed_point_stops_with_its_status(tmp_path):
+    """The test solver's corner (y < -8.9 mm, yaw < -0.119 rad) does not converge: a run started
+    there stops at once with ON_FAILED_POINT and a message naming the pose, no number."""
+    from lutmpi.commands.simulate import params_from_table
+    from lutmpi.dynamics.contact_provider import TableProvider
+    from lutmpi.dynamics.simulate import ON_FAILED_POINT, simulate
+    from lutmpi.parallel.runner import build_table
+    from lutmpi.table import Table
+    from tests.support import faulty_solver
+    from tests.support.tables import write_config
+
+    cfg = load_config(write_config(tmp_path, ny=7, nyaw=5, methods=("reference",)))
+    out = tmp_path / "t.h5"
+    build_table(cfg, out, solver=faulty_solver.solve, scene_factory=faulty_solver.make_scene)
+    table = Table.open(out)
+    # the status change is a located jump (kind 4) next to the failed corner
+    kinds = table.jumps["reference"]["arrays"]["jump_kind"][0]
+    assert any(k & 4 for k in kinds)
+    res = simulate(TableProvider(table), params_from_table(table), 27.0, 0.5, y0=-8.95e-3,
+                   yaw0=-0.12, events=False)
+    assert not res.success and res.status == ON_FAILED_POINT
+    assert "reached a failed table point at t = 0.00000 s, pose y = -8.9500 mm" in res.message
