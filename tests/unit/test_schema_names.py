@@ -67,6 +67,8 @@ ALLOWED: dict[tuple[str, str], str] = {
     **{("lutmpi/table/compute.py", n): "ATTRIBUTE_OF value: the result attribute of that name"
        for n in ("indentation", "kc")},
     ("lutmpi/parallel/sweep_runner.py", "status"): "a column of the sweep's index.json",
+    **{("lutmpi/contact/kernels.py", n): "a column of the compiled Contacts buffer (perf)"
+       for n in ("wheel_point", "rail_point")},
     ("lutmpi/reports/report.py", "status"): "STATUS_KEY: the member-status key of index.json",
     # table/api.py: Table.interp's info key named like the jump dataset it reports (jumps)
     ("lutmpi/table/api.py", "jump_side"): "interp info key (INFO_KEYS), returned per query",
