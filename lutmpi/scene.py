@@ -1,20 +1,28 @@
-"""The scene: a wheel profile and a rail profile placed on the track, meshed, with the numbers of
-the solve — everything a pose solve needs, built once from a config and shared by all points.
-Pure (no MPI, no files after construction) and picklable."""
+"""The scene: each wheel and each rail placed on the track and meshed, the rigid-contact solver
+and the numbers of the solve — everything a pose solve needs, built once and shared by all
+points. Typed and frozen; pure (no MPI, no files, no config after construction) and picklable.
+
+Each side (``"left"``, ``"right"``) has its own :class:`SideScene`: wheel and rail geometry, their
+meshes and the flange-stiffness radii. A symmetric wheelset on a symmetric track is the special
+case where both sides are built from the same profiles (mirrored). The config is read only by
+:func:`lutmpi.scene_config.scene_from_config` (the edge).
+"""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TypeVar
 
 import numpy as np
 
-from lutmpi.config.model import Config
-from lutmpi.contact.locus import LocusSolver
+from lutmpi.contact.locus import LocusSampling, LocusSolver
 from lutmpi.contact.mesh import RailMesh, WheelMesh
-from lutmpi.contact.stiffness import paper_flange_chi
 from lutmpi.equilibrium.solver import EquilibriumOptions
-from lutmpi.geometry.track import PlacedRail, WheelGeometry
+from lutmpi.geometry.track import SIDES, PlacedRail, WheelGeometry
 from lutmpi.profiles.model import Profile
+
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -26,143 +34,145 @@ class SolveSettings:
     window: bool = True
     window_gap: float = 2e-5  # m, rigid gap depth of the window beyond the penetration
     flange: bool = True
-    flange_base_radius: float = float("nan")  # m
-    flange_tip_radius: float = float("nan")  # m
     chi: float = 1.0
+    hold_roll: bool = False  # reference only: roll held at zero (EN 15302 Annex E's Δr)
 
 
 @dataclass(frozen=True, eq=False)
-class Scene:
-    """Placed wheel and rail, their meshes, the reference solver and the solve settings."""
+class SideScene:
+    """One wheel on its rail: placed geometry, meshes and the §4.5 flange radii (SI).
 
+    ``flange_base_radius`` / ``flange_tip_radius`` bound the flange-stiffness interpolation;
+    ``samp`` are the locus samples of the wheel (radius at every 0.1 mm of ``s``)."""
+
+    name: str
+    sign: float
     wheel: WheelGeometry
     rail: PlacedRail
     wheel_mesh: WheelMesh
     rail_mesh: RailMesh
+    flange_base_radius: float
+    flange_tip_radius: float
+    samp: LocusSampling
+
+    def flange_radius(self, s: float) -> float:
+        """Wheel radius at profile coordinate ``s`` from the locus samples, m."""
+        return float(np.interp(s, self.samp.s, self.samp.r))
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Both sides, the reference (locus) solver, the equilibrium and the solve settings."""
+
+    sides: Mapping[str, SideScene]
     locus: LocusSolver
     equilibrium: EquilibriumOptions
     settings: SolveSettings
-    config: Config | None = None
+
+    def side(self, name: str) -> SideScene:
+        return self.sides[name]
+
+    @property
+    def lever(self) -> float:
+        """Mean tape-circle distance of the two wheels from the wheelset centre, m."""
+        return 0.5 * (self.sides["left"].wheel.d + self.sides["right"].wheel.d)
+
+    @property
+    def symmetric(self) -> bool:
+        """True when both sides share the same wheel and rail geometry (mirrored)."""
+        left, right = self.sides["left"], self.sides["right"]
+        return left.wheel is right.wheel and left.rail is right.rail
+
+    def _mirrored(self, attr: str):
+        if not self.symmetric:
+            raise AttributeError(f"Scene.{attr}: the two sides differ; use scene.side(name)")
+        return getattr(self.sides["left"], attr)
+
+    # shortcuts for a mirrored scene (tests, scripts); pure code uses scene.side(name)
+    wheel = property(lambda self: self._mirrored("wheel"))
+    rail = property(lambda self: self._mirrored("rail"))
+    wheel_mesh = property(lambda self: self._mirrored("wheel_mesh"))
+    rail_mesh = property(lambda self: self._mirrored("rail_mesh"))
 
     @classmethod
     def from_profiles(
         cls,
-        wheel: Profile,
-        rail: Profile,
+        wheel: Profile | Mapping[str, Profile],
+        rail: Profile | Mapping[str, Profile],
         *,
-        r0: float = 0.46,
-        tape_half_distance: float = 0.75,
-        inclination: float = np.arctan(1 / 20),
+        r0: float | Mapping[str, float] = 0.46,
+        tape_half_distance: float | Mapping[str, float] = 0.75,
+        inclination: float | Mapping[str, float] = np.arctan(1 / 20),
         gauge: float = 1.435,
-        gauge_depth: float = 0.014,
+        gauge_depth: float | Mapping[str, float] = 0.014,
+        gauge_v: float | None | Mapping[str, float | None] = None,
         spacing: tuple[float, float, float, float] = (2.5e-4, 5e-4, 2.5e-4, 5e-4),
         equilibrium: EquilibriumOptions | None = None,
         settings: SolveSettings | None = None,
         flange_base_height: float = 0.002,
-        config: Config | None = None,
         locus_ds: float = 1e-4,
     ) -> Scene:
-        """Build a scene from profiles (SI). ``spacing`` = (wheel lateral, wheel circumferential,
-        rail lateral, rail longitudinal), m."""
-        wg = WheelGeometry.place(wheel, r0, tape_half_distance)
-        rg = PlacedRail.place(rail, inclination, gauge, gauge_depth)
+        """Build a scene from profiles (SI).
+
+        Every geometric argument is one value for both sides (mirrored) or a mapping
+        ``{"left": ..., "right": ...}``. ``spacing`` = (wheel lateral, wheel circumferential,
+        rail lateral, rail longitudinal), m. ``gauge_v``: the rail profile's own lateral
+        coordinate of the gauge point (None: found ``gauge_depth`` below the top of rail)."""
         eq = equilibrium or EquilibriumOptions()
         st = settings or SolveSettings()
-        if np.isnan(st.flange_base_radius):
-            st = SolveSettings(
-                **{
-                    **st.__dict__,
-                    "flange_base_radius": r0 + flange_base_height,
-                    "flange_tip_radius": wg.flange_tip_radius(),
-                }
-            )
-        return cls(
-            wheel=wg,
-            rail=rg,
-            wheel_mesh=WheelMesh.build(wg, spacing[0], spacing[1]),
-            rail_mesh=RailMesh.build(rg, spacing[2], spacing[3]),
-            locus=LocusSolver(
-                wg, rg, ds=locus_ds, double_tol=eq.allowed_indentation, max_contacts=st.max_contacts
-            ),
-            equilibrium=eq,
-            settings=st,
-            config=config,
-        )
+        per = {k: _per_side(v) for k, v in dict(
+            wheel=wheel, rail=rail, r0=r0, d=tape_half_distance, inc=inclination,
+            depth=gauge_depth, gv=gauge_v).items()}
+        wheels = {"left": WheelGeometry.place(per["wheel"]["left"], per["r0"]["left"],
+                                              per["d"]["left"])}
+        rails = {"left": PlacedRail.place(per["rail"]["left"], per["inc"]["left"], gauge,
+                                          per["depth"]["left"], gauge_v=per["gv"]["left"])}
+        # a mirrored right side shares the left side's objects
+        if all(per[k]["right"] is per[k]["left"] or per[k]["right"] == per[k]["left"]
+               for k in ("r0", "d")) and per["wheel"]["right"] is per["wheel"]["left"]:
+            wheels["right"] = wheels["left"]
+        else:
+            wheels["right"] = WheelGeometry.place(per["wheel"]["right"], per["r0"]["right"],
+                                                  per["d"]["right"])
+        if all(per[k]["right"] == per[k]["left"] for k in ("inc", "depth", "gv")) \
+                and per["rail"]["right"] is per["rail"]["left"]:
+            rails["right"] = rails["left"]
+        else:
+            rails["right"] = PlacedRail.place(per["rail"]["right"], per["inc"]["right"], gauge,
+                                              per["depth"]["right"], gauge_v=per["gv"]["right"])
+        locus = LocusSolver(wheels, rails, ds=locus_ds, double_tol=eq.allowed_indentation,
+                            max_contacts=st.max_contacts, hold_roll=st.hold_roll)
+        meshes: dict[int, object] = {}
+        sides = {}
+        for name in SIDES:
+            w, r = wheels[name], rails[name]
+            wm = meshes.get(id(w)) or WheelMesh.build(w, spacing[0], spacing[1])
+            rm = meshes.get(id(r)) or RailMesh.build(r, spacing[2], spacing[3])
+            meshes[id(w)], meshes[id(r)] = wm, rm
+            sides[name] = SideScene(
+                name=name, sign=SIDES[name], wheel=w, rail=r, wheel_mesh=wm, rail_mesh=rm,
+                flange_base_radius=w.r0 + flange_base_height,
+                flange_tip_radius=w.flange_tip_radius(), samp=locus.sides[name].samp)
+        return cls(sides=sides, locus=locus, equilibrium=eq, settings=st)
 
     @classmethod
-    def from_config(cls, cfg: Config) -> Scene:
-        """Load/generate the profiles of ``cfg``, apply its wear, and build the scene."""
-        wheel, rail = load_scene_profiles(cfg)
-        e, c, m = cfg.equilibrium, cfg.contact, cfg.mesh
-        eq = EquilibriumOptions(
-            k_el=e.spring_N_per_m,
-            k_rot=e.torsion_spring_Nm_per_rad,
-            load=e.vertical_load_N,
-            kc0=e.initial_kc_N_per_m,
-            kc_max=e.max_kc_N_per_m,
-            allowed_indentation=c.allowed_indentation_mm * 1e-3,
-            max_iterations=e.max_iterations,
-            max_pose_time=e.max_pose_time_s,
-            solver=e.solver,
-            extrapolate=c.extrapolate,
-        )
-        f = cfg.flange
-        chi = paper_flange_chi() if f.enabled else 1.0
-        st = SolveSettings(
-            method=c.method,
-            max_contacts=c.max_contacts_per_wheel,
-            window=m.window,
-            window_gap=m.window_gap_mm * 1e-3,
-            flange=f.enabled,
-            chi=chi,
-        )
-        return cls.from_profiles(
-            wheel,
-            rail,
-            r0=cfg.wheel.nominal_radius_m,
-            tape_half_distance=cfg.wheelset.tape_half_distance_m,
-            inclination=cfg.rail.inclination_rad,
-            gauge=cfg.track.gauge_mm * 1e-3,
-            gauge_depth=cfg.track.gauge_depth_mm * 1e-3,
-            spacing=(
-                m.wheel_lateral_mm * 1e-3,
-                m.wheel_circumferential_mm * 1e-3,
-                m.rail_lateral_mm * 1e-3,
-                m.rail_longitudinal_mm * 1e-3,
-            ),
-            equilibrium=eq,
-            settings=st,
-            flange_base_height=f.base_height_mm * 1e-3,
-            config=cfg,
-        )
+    def from_config(cls, cfg) -> Scene:
+        """The scene of a :class:`~lutmpi.config.model.Config` (see :mod:`lutmpi.scene_config`)."""
+        from lutmpi.scene_config import scene_from_config
+
+        return scene_from_config(cfg)
 
 
-def load_scene_profiles(cfg: Config) -> tuple[Profile, Profile]:
-    """The wheel and rail profiles of a config (file or generator), with parametric wear."""
-    from lutmpi.profiles.readers import read_profile
-    from lutmpi.profiles.standard import generate
+def _per_side(value: T | Mapping[str, T]) -> dict[str, T]:
+    if isinstance(value, Mapping):
+        if set(value) != set(SIDES):
+            raise ValueError(f"expected a value per side {list(SIDES)}, got {list(value)}")
+        return dict(value)
+    return {name: value for name in SIDES}
 
-    w, r = cfg.wheel, cfg.rail
-    wheel = (
-        generate(w.generator)
-        if w.generator
-        else read_profile(w.profile, kind="wheel", format=w.format)
-    )
-    rail = (
-        generate(r.generator)
-        if r.generator
-        else read_profile(r.profile, kind="rail", format=r.format)
-    )
-    if cfg.wear.any:
-        from lutmpi.profiles import wear
 
-        ww, rw = cfg.wear.wheel, cfg.wear.rail
-        if ww.flange_thinning_mm:
-            wheel = wear.flange_thinning(wheel, ww.flange_thinning_mm)
-        if ww.tread_hollowing_mm:
-            wheel = wear.tread_hollowing(wheel, ww.tread_hollowing_mm)
-        if rw.vertical_mm:
-            rail = wear.rail_vertical_wear(rail, rw.vertical_mm)
-        if rw.side_mm:
-            rail = wear.rail_side_wear(rail, rw.side_mm)
-    return wheel, rail
+def load_scene_profiles(cfg):
+    """Moved to :func:`lutmpi.scene_config.load_scene_profiles` (the config edge)."""
+    from lutmpi.scene_config import load_scene_profiles as load
+
+    return load(cfg)

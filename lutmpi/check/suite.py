@@ -45,6 +45,7 @@ from lutmpi.equilibrium.result import (
     KC_LIMIT,
     MAX_ITER,
     NO_CONTACT,
+    PROFILE_END,
     SIDES,
     STATUS,
     WINDOW,
@@ -83,10 +84,11 @@ class Tolerances:
 
     @classmethod
     def from_scene(cls, scene) -> Tolerances:
-        h = max(scene.wheel_mesh.h_lat, scene.rail_mesh.h_lat)
+        sd = scene.side("left")  # the mesh spacings are the same on both sides
+        h = max(sd.wheel_mesh.h_lat, sd.rail_mesh.h_lat)
         return cls(
             z=0.08 * h,
-            roll=0.08 * h / scene.wheel.d,
+            roll=0.08 * h / scene.lever,
             s=2.0 * h,
             dc=5.0 * scene.equilibrium.allowed_indentation,
         )
@@ -181,13 +183,24 @@ def pose_text(res: PoseResult) -> str:
     return f"y={res.y / MM:+.2f} mm yaw={res.yaw:+.4f} rad"
 
 
-def advice(status: int, scene) -> str:
-    """What to change for a pose that ended with ``status``."""
-    eq, wm, rm = scene.equilibrium, scene.wheel_mesh, scene.rail_mesh
+def advice(status: int, scene, message: str = "") -> str:
+    """What to change for a pose that ended with ``status`` (``message``: the pose's message,
+    which tells a missing rigid contact from a mesh that sees none)."""
+    eq, sd = scene.equilibrium, scene.side("left")
+    wm, rm = sd.wheel_mesh, sd.rail_mesh
+    if status == NO_CONTACT and "rigid" in message:
+        return ("no rigid two-wheel contact exists at this pose: a wheel misses its rail (the "
+                "profiles' data do not reach each other). Check the placement with "
+                "`lutmpi profile plot` (track.gauge_mm, wheelset.back_to_back_mm, the gauge "
+                "point) and that grid.y_mm stays within the profiles' lateral extent")
     return {
-        NO_CONTACT: (f"the mesh sees no contact: refine mesh.wheel_lateral_mm / rail_lateral_mm "
-                     f"(now {wm.h_lat / MM:g} / {rm.h_lat / MM:g}) or lower "
-                     f"equilibrium.initial_kc_N_per_m (now {eq.kc0:.3g})"),
+        NO_CONTACT: (f"a rigid contact exists but the mesh sees none: refine "
+                     f"mesh.wheel_lateral_mm / rail_lateral_mm (now {wm.h_lat / MM:g} / "
+                     f"{rm.h_lat / MM:g}) or lower equilibrium.initial_kc_N_per_m "
+                     f"(now {eq.kc0:.3g})"),
+        PROFILE_END: ("the contact lies on the end of a profile's data: give a profile file that "
+                      "extends further (gauge face / flange), or limit grid.y_mm to where the "
+                      "data reach"),
         KC_LIMIT: (f"raise equilibrium.max_kc_N_per_m (now {eq.kc_max:.3g}) or "
                    f"contact.allowed_indentation_mm (now {eq.allowed_indentation / MM:g})"),
         MAX_ITER: f"raise equilibrium.max_iterations (now {eq.max_iterations})",
@@ -202,7 +215,7 @@ def advice(status: int, scene) -> str:
 def _failure_text(res: PoseResult, scene) -> str:
     if res.success and not finite_result(res):
         return f"{pose_text(res)}: NaN in a converged result (a bug, please report the pose)"
-    return f"{pose_text(res)}: {res.message}; {advice(res.status, scene)}"
+    return f"{pose_text(res)}: {res.message}; {advice(res.status, scene, res.message)}"
 
 
 # -- the suite ----------------------------------------------------------------------------------
@@ -270,7 +283,8 @@ class Suite:
                    f"{t.acc_z / MM:g} mm, {t.acc_roll:g} rad, {t.acc_s / MM:g} mm"
                    f"{' + patch lopsidedness' if self.method == 'load_centre' else ''})")
             if devs[k] > 1.0:
-                wm, rm = self.scene.wheel_mesh, self.scene.rail_mesh
+                sd = self.scene.side("left")  # same spacings on both sides
+                wm, rm = sd.wheel_mesh, sd.rail_mesh
                 msg += (f"; refine mesh.wheel_lateral_mm / rail_lateral_mm (now "
                         f"{wm.h_lat / MM:g} / {rm.h_lat / MM:g}) or lower "
                         f"contact.allowed_indentation_mm")
@@ -467,7 +481,8 @@ class Suite:
         if self.method == "reference":
             return CheckResult("mesh spacing", "all", True, math.inf, self.tol.min_nodes,
                                "reference method: no mesh")
-        eq, wm, rm = self.scene.equilibrium, self.scene.wheel_mesh, self.scene.rail_mesh
+        eq, sd = self.scene.equilibrium, self.scene.side("left")  # same spacings both sides
+        wm, rm = sd.wheel_mesh, sd.rail_mesh
         delta = eq.allowed_indentation / get_method(self.method).indentation_rate
         lat, lon = (math.inf, None), (math.inf, None)
         for p in sample:

@@ -1,4 +1,5 @@
-"""``lutmpi conicity (TABLE.h5 | --dr FILE.csv)``: equivalent conicity against amplitude."""
+"""``lutmpi conicity (TABLE.h5 | CONFIG.toml | --dr FILE.csv)``: equivalent conicity against
+amplitude."""
 
 from __future__ import annotations
 
@@ -19,11 +20,14 @@ def register(subparsers: Any) -> None:
         description="Equivalent conicity tan(gamma_e) against the amplitude of the kinematic "
                     "wheelset motion, by integration of the non-linear equation (EN 15302 Annex "
                     "B) with the singular end points treated exactly. Δr(y) comes from a table "
-                    "(yaw = 0, r_left - r_right of the main contact) or from a CSV file of "
+                    "(yaw = 0, r_left - r_right of the main contact), from a run config (.toml: "
+                    "its y grid is solved at yaw 0 with its contact.method, serially), or from "
+                    "a CSV file of "
                     "y [mm], Δr [mm] (positive for y > 0, i.e. EN 15302's r_right - r_left with "
                     "y to the right). Prints the curve and the value at 3 mm.")
     src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("table", nargs="?", help="lookup table (HDF5) with yaw = 0 on its grid")
+    src.add_argument("table", nargs="?", help="lookup table (HDF5) with yaw = 0 on its grid, or "
+                     "a run config (.toml)")
     src.add_argument("--dr", metavar="CSV", help="Δr file: columns y_mm, delta_r_mm (header ok)")
     p.add_argument("--method", help="method group of the table (default: its first)")
     p.add_argument("--r0-mm", type=float, default=None,
@@ -76,6 +80,10 @@ def run(args: argparse.Namespace) -> int:
     if args.dr:
         y, dr = read_dr_csv(args.dr)
         label = Path(args.dr).name
+    elif Path(args.table).suffix.lower() == ".toml":
+        y, dr, cfg_r0 = config_dr(args.table, args.method)
+        r0_mm = r0_mm or cfg_r0
+        label = Path(args.table).name
     else:
         y, dr, table_r0 = _table_dr(args)
         r0_mm = r0_mm or table_r0
@@ -114,6 +122,32 @@ def run(args: argparse.Namespace) -> int:
 
         conicity_plot({label: (res.amplitude, res.tan_gamma_e)}, args.plot)
     return 0
+
+
+def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, np.ndarray,
+                                                                        float]:
+    """``(y, Δr with NaN holes, r0 in mm)`` of a run config: its y grid solved at yaw 0 (the
+    config's yaw axis is ignored) with ``method`` (default ``contact.method``), serially."""
+    import dataclasses
+
+    from lutmpi.config import load_config
+    from lutmpi.reports.conicity import dr_from_table
+    from lutmpi.scene import Scene
+    from lutmpi.table.compute import compute_points, default_solver
+    from lutmpi.table.grid import Grid
+    from lutmpi.table.schema import FIELDS_BY_NAME, D
+
+    cfg = load_config(path)
+    cfg = dataclasses.replace(cfg, grid=dataclasses.replace(cfg.grid, yaw_rad=(0.0, 0.0, 1)))
+    name = method or cfg.contact.method
+    grid = Grid.from_config(cfg.grid)
+    fields = [FIELDS_BY_NAME[k] for k in (D.status, D.rolling_radius)]
+    recs, _ = compute_points(Scene.from_config(cfg), grid, np.arange(grid.n_points), [name],
+                             default_solver(), fields)
+    group = {k: v[:, None] for k, v in recs[name].items()}   # (ny, nyaw = 1, ...)
+    y, dr = dr_from_table({"y": grid.y, "yaw": grid.yaw, "methods": {name: group}}, name)
+    r0 = 0.5 * sum(cfg.wheel.side(s).nominal_radius_mm for s in ("left", "right"))
+    return y, dr, r0
 
 
 def _table_dr(args: argparse.Namespace) -> tuple[np.ndarray, np.ndarray, float]:

@@ -33,6 +33,15 @@ def register(subparsers: Any) -> None:
                    help="table: lateral shifts drawn to scale (default: 0 and the largest y)")
     p.add_argument("--en15302-case", default=None, metavar="E1..E9",
                    help="table: draw this EN 15302 Annex E case's conicity tolerance band")
+    # -- issue 11: the table-error section (jumps) --------------------------------------------
+    p.add_argument("--table-error", nargs="*", default=None, metavar="OTHER.h5",
+                   help="table: measure its interpolation error at off-grid poses against direct "
+                        "solves (and that of OTHER tables of the same pair, e.g. other densities),"
+                        " jump-aware vs linear, against build time and size; writes "
+                        "REPORT/table_error.md")
+    p.add_argument("--error-target", nargs="+", default=None, metavar="Q=V",
+                   help="with --table-error: name the cheapest table meeting e.g. "
+                        "rolling_radius=5e-6 contact_angle=5e-4 (SI: m, rad)")
     p.set_defaults(func=run)
 
 
@@ -42,6 +51,8 @@ def run(args: argparse.Namespace) -> int:
     from lutmpi.outpath import check_output_dir
 
     check_output_dir(args.output, "report folder")
+    if args.table_error is not None:
+        return _table_error(args)
     if Path(args.outdir).is_file():
         from lutmpi.reports.table_report import build_table_report
 
@@ -53,4 +64,45 @@ def run(args: argparse.Namespace) -> int:
 
     path = build_report(args.outdir, args.output, reference=args.reference, wear=args.wear)
     print(path)
+    return 0
+
+
+# -- issue 11: the table-error section (owner: jumps) ---------------------------------------------
+def _table_error(args: argparse.Namespace) -> int:
+    """``--table-error``: :mod:`lutmpi.reports.table_error` on the table(s), direct solves with
+    each table's own stored config and method."""
+    import tomllib
+    from pathlib import Path
+
+    from lutmpi.config import config_from_dict
+    from lutmpi.contact.solve import solve_pose
+    from lutmpi.errors import ConfigError
+    from lutmpi.reports import table_error
+    from lutmpi.scene import Scene
+    from lutmpi.table import Table
+    from lutmpi.table.compute import pose_to_record
+    from lutmpi.table.schema import FIELDS
+
+    target = {}
+    for item in args.error_target or []:
+        key, _, value = item.partition("=")
+        if key not in table_error.QUANTITIES or not value:
+            raise ConfigError(f"--error-target {item!r}: expected Q=V with Q one of "
+                              f"{', '.join(table_error.QUANTITIES)}")
+        target[key] = float(value)
+    results = []
+    for path in [args.outdir, *args.table_error]:
+        table = Table.open(path)
+        method = args.method or table.methods[0]
+        scene = Scene.from_config(config_from_dict(tomllib.loads(table.config_toml)))
+
+        def solve(y: float, yaw: float, scene: object = scene, method: str = method) -> dict:
+            return pose_to_record(solve_pose(scene, y, yaw, method), FIELDS)
+
+        results.append(table_error.measure(table, solve, method))
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    text = table_error.markdown(results, target or None)
+    (out / "table_error.md").write_text(text)
+    print(text)
     return 0

@@ -21,7 +21,8 @@ def register(subparsers: Any) -> None:
                     "evaluation). Writes time histories to HDF5, PNG plots like Figs 11-14 and "
                     "prints a summary line (stable / hunting, growth rate, amplitude, Y/Q).")
     p.add_argument("config",
-                   help="configuration TOML (the table's own config gives E, nu, r0)")
+                   help="configuration TOML (with --table, E, nu, r0 and the load come from "
+                        "the table's attributes)")
     p.add_argument("--table", help="lookup table (HDF5); required unless --online")
     p.add_argument("--speed", type=float, default=27.0, help="forward speed, m/s (default 27)")
     p.add_argument("--duration", type=float, default=10.0, help="simulated time, s (default 10)")
@@ -54,8 +55,18 @@ def make_provider(args: argparse.Namespace) -> tuple[Any, Any, str]:
 
     table = Table.open(args.table)
     method = args.method or table.methods[0]
-    params = WheelsetParams.from_toml_text(table.config_toml)
-    return TableProvider(table, method), params, f"table:{args.table}:{method}"
+    return TableProvider(table, method), params_from_table(table), f"table:{args.table}:{method}"
+
+
+def params_from_table(table: Any) -> Any:
+    """Wheelset data (E, nu, r0, vertical load) from the attributes the table's build wrote
+    (:data:`lutmpi.table.schema.DYNAMICS_ATTRIBUTES`); the rest is Table 2 of the paper."""
+    from lutmpi.dynamics.wheelset import WheelsetParams
+
+    return WheelsetParams(young=float(table.attribute("young_modulus")),
+                          poisson=float(table.attribute("poisson_ratio")),
+                          r0=float(table.attribute("nominal_radius")),
+                          vertical_load=float(table.attribute("vertical_load")))
 
 
 def write_run(path: str | Path, run: Any, source: str) -> None:
@@ -107,4 +118,7 @@ def run(args: argparse.Namespace) -> int:
         paths = plot_run([res], out.with_suffix(""))
         log.info("plots: %s", ", ".join(str(p) for p in paths))
     print(f"{source}: {res.summary_line()}")
+    if not res.success:
+        log.error("simulation stopped: %s", res.message)
+        print(f"{source}: stopped: {res.message}")
     return 0 if res.success else 1

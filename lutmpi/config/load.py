@@ -13,8 +13,9 @@ Types: a float key accepts a TOML integer or float (finite; ``true``/``false`` a
 Profile files (``wheel.profile``, ``rail.profile``): an absolute path is used as is; a relative path
 is looked up, in this order, (1) relative to the directory of the config file (``base_dir``),
 (2) relative to the current directory, (3) relative to the lutmpi source checkout (the directory
-holding ``lutmpi/``, so ``profiles/...`` works from anywhere). The first existing file wins and is
-stored as an absolute, resolved path.
+holding ``lutmpi/``, so ``profiles/...`` works from anywhere), (4) for a path ``../shared/...``
+(any number of ``../``), in the shared folder that :func:`lutmpi.paths.shared_dir` finds. The
+first existing file wins and is stored as an absolute, resolved path.
 
 Derived default: when ``[output] methods`` is not given it is ``[contact.method]``, so a config that
 only changes the method computes that method. ``contact.method`` must be one of ``output.methods``.
@@ -34,10 +35,12 @@ from typing import Any
 from lutmpi.config.model import (
     ALL_METHODS,
     EQUILIBRIUM_SOLVERS,
-    INCLINATIONS,
+    GAUGE_POINTS,
     QUANTITIES,
     RAIL_GENERATORS,
+    SIDE_NAMES,
     WHEEL_GENERATORS,
+    WHEEL_ORIGINS,
     Config,
 )
 from lutmpi.errors import ConfigError
@@ -95,7 +98,13 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "wheel.generator": _one_of(WHEEL_GENERATORS),
     "wheel.nominal_radius_mm": _closed(100.0, 1000.0),
     "rail.generator": _one_of(RAIL_GENERATORS),
-    "rail.inclination": _one_of(INCLINATIONS),
+    "rail.inclination": ((lambda v: v is not None), "see _as_cant"),
+    "wheel.origin": _one_of(WHEEL_ORIGINS),
+    "wheel.offset_y_mm": _closed(-200.0, 200.0),
+    "wheel.offset_z_mm": _closed(-200.0, 200.0),
+    "rail.offset_y_mm": _closed(-200.0, 200.0),
+    "rail.offset_z_mm": _closed(-200.0, 200.0),
+    "rail.gauge_depth_mm": _open_closed(0.0, 30.0),
     "track.gauge_mm": _closed(500.0, 2000.0),
     "track.gauge_depth_mm": _open_closed(0.0, 30.0),
     "wheelset.back_to_back_mm": _open_closed(0.0, 2000.0),
@@ -105,10 +114,10 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "mesh.rail_lateral_mm": _open_closed(0.0, 20.0),
     "mesh.rail_longitudinal_mm": _open_closed(0.0, 20.0),
     "mesh.window_gap_mm": _open_closed(0.0, 50.0),
-    "mesh.window_margin_mm": _closed(0.0, 100.0),
     "contact.method": _one_of(ALL_METHODS),
     "contact.allowed_indentation_mm": _open_closed(0.0, 1.0),
     "contact.max_contacts_per_wheel": ((lambda v: v in (1, 2)), "1 or 2"),
+    "contact.roll": _one_of(("solved", "zero")),
     "equilibrium.spring_N_per_m": _positive(),
     "equilibrium.torsion_spring_Nm_per_rad": _positive(),
     "equilibrium.vertical_load_N": ((lambda v: v >= 0), "a number >= 0"),
@@ -119,14 +128,22 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "equilibrium.solver": _one_of(EQUILIBRIUM_SOLVERS),
     "material.young_GPa": _open_closed(0.0, 1000.0),
     "material.poisson": ((lambda v: 0.0 < v < 0.5), "a number in (0, 0.5)"),
-    "flange.cantilever_b_mm": _positive(),
-    "flange.cantilever_h_mm": _positive(),
-    "flange.cantilever_l_mm": _positive(),
     "flange.base_height_mm": _closed(0.0, 50.0),
     "wear.wheel.flange_thinning_mm": _closed(0.0, 15.0),
     "wear.wheel.tread_hollowing_mm": _closed(0.0, 10.0),
     "wear.rail.vertical_mm": _closed(0.0, 30.0),
     "wear.rail.side_mm": _closed(0.0, 30.0),
+}
+# keys that were accepted once but never changed a result (issue 15): an old config that sets
+# one gets an error that says so, not a silent no-op
+REMOVED_KEYS = {
+    "flange.cantilever_b_mm": "the flange stiffness uses the paper's chi = 0.082 "
+                              "(lutmpi/contact/stiffness.py), never the Table 1 cantilever",
+    "flange.cantilever_h_mm": "the flange stiffness uses the paper's chi = 0.082 "
+                              "(lutmpi/contact/stiffness.py), never the Table 1 cantilever",
+    "flange.cantilever_l_mm": "the flange stiffness uses the paper's chi = 0.082 "
+                              "(lutmpi/contact/stiffness.py), never the Table 1 cantilever",
+    "mesh.window_margin_mm": "the window depth is mesh.window_gap_mm; no lateral margin is used",
 }
 # grid axes: key -> (largest |value|, unit)
 _GRID_LIMITS = {"grid.y_mm": (100.0, "mm"), "grid.yaw_rad": (0.5, "rad")}
@@ -231,17 +248,22 @@ def _as_bool(value: Any, key: str, where: _Where) -> bool:
 
 
 def _as_axis(value: Any, key: str, where: _Where) -> tuple[float, float, int]:
-    """``[start, stop, count]`` with start < stop, 2 <= count, inside the axis limits."""
+    """``[start, stop, count]`` with start < stop and 2 <= count, or one value (start == stop,
+    count 1: a 1-D table), inside the axis limits."""
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise _expect(where, key, "[start, stop, count]", value)
     start = _as_float(value[0], key, where)
     stop = _as_float(value[1], key, where)
     count = _as_int(value[2], key, where)
     limit, unit = _GRID_LIMITS[key]
-    if not start < stop:
-        raise where.error(key, f"expected start < stop, got start={start:g}, stop={stop:g}")
-    if not 2 <= count <= MAX_GRID_COUNT:
-        raise where.error(key, f"expected a count in [2, {MAX_GRID_COUNT}], got {count}")
+    if count == 1 and start == stop:
+        pass   # a single value: the table is 1-D along this axis
+    elif not start < stop:
+        raise where.error(key, f"expected start < stop (or start == stop with count 1), got "
+                               f"start={start:g}, stop={stop:g}")
+    elif not 2 <= count <= MAX_GRID_COUNT:
+        raise where.error(key, f"expected a count in [2, {MAX_GRID_COUNT}] (or 1 with start == "
+                               f"stop), got {count}")
     if max(abs(start), abs(stop)) > limit:
         raise where.error(key, f"expected values within ±{limit:g} {unit}, "
                                f"got [{start:g}, {stop:g}]")
@@ -257,6 +279,56 @@ def _as_names(value: Any, key: str, where: _Where) -> tuple[str, ...]:
     return names
 
 
+def _as_cant(value: Any, key: str, where: _Where) -> str | float:
+    """A rail cant: ``"1:N"`` (N >= 5), ``"none"``, or a number in rad within [-0.2, 0.2]."""
+    expected = 'a cant "1:N" (N >= 5), "none", or a number in rad within [-0.2, 0.2]'
+    if isinstance(value, str):
+        text = value.strip()
+        if text == "none":
+            return "none"
+        head, _, tail = text.partition(":")
+        try:
+            n = float(tail)
+        except ValueError:
+            raise _expect(where, key, expected, value) from None
+        if head.strip() != "1" or not math.isfinite(n) or n < 5:
+            raise _expect(where, key, expected, value)
+        return f"1:{tail.strip()}"
+    out = _as_float(value, key, where)
+    if abs(out) > 0.2:
+        raise _expect(where, key, expected, value)
+    return out
+
+
+def _as_gauge_point(value: Any, key: str, where: _Where) -> str | float:
+    """``"depth"``, ``"first"``, ``"last"`` (a point of the file) or a lateral coordinate, mm."""
+    if isinstance(value, str):
+        if value not in GAUGE_POINTS:
+            raise _expect(where, key, "one of " + ", ".join(repr(g) for g in GAUGE_POINTS)
+                          + " or a lateral coordinate in mm", value)
+        return value
+    out = _as_float(value, key, where)
+    if abs(out) > 200.0:
+        raise _expect(where, key, "a lateral coordinate within ±200 mm", value)
+    return out
+
+
+def _shared_candidate(rel: Path) -> Path | None:
+    """``../shared/x`` also in the shared folder :func:`lutmpi.paths.shared_dir` finds
+    (``LUTMPI_SHARED``, beside the checkout, ``/work/shared``): validation data that must not be
+    copied into the repository, read from wherever the checkout is."""
+    from lutmpi.paths import shared_dir
+
+    parts = rel.parts
+    if rel.is_absolute() or "shared" not in parts:
+        return None
+    k = parts.index("shared")
+    if any(p != ".." for p in parts[:k]):
+        return None
+    base = shared_dir()
+    return None if base is None else base.joinpath(*parts[k + 1:])
+
+
 def _as_profile(value: Any, key: str, where: _Where) -> Path:
     """Resolve a profile path (config directory, current directory, source checkout)."""
     if isinstance(value, os.PathLike):
@@ -267,6 +339,9 @@ def _as_profile(value: Any, key: str, where: _Where) -> Path:
         rel = Path(text).expanduser()
         roots = [] if rel.is_absolute() else [where.base_dir, Path.cwd(), _SOURCE_ROOT]
         candidates = [rel] if rel.is_absolute() else [root / rel for root in roots]
+        shared = _shared_candidate(rel)
+        if shared is not None:
+            candidates.append(shared)
         for cand in candidates:
             if cand in tried:
                 continue
@@ -288,7 +363,22 @@ _CONVERTERS: dict[Any, typing.Callable[[Any, str, _Where], Any]] = {
     Path | None: _as_profile,
     tuple[float, float, int]: _as_axis,
     tuple[str, ...]: _as_names,
+    float | None: _as_float,
+    bool | None: _as_bool,
+    str | float: _as_cant,
+    str | float | None: _as_cant,
 }
+_GAUGE_POINT_KEYS = {"rail.gauge_point", "rail.left.gauge_point", "rail.right.gauge_point"}
+
+
+def _rule_key(key: str) -> str:
+    """``wheel.left.nominal_radius_mm`` -> ``wheel.nominal_radius_mm`` (side keys share rules)."""
+    parts = key.split(".")
+    if len(parts) == 3 and parts[0] in ("wheel", "rail") and parts[1] in SIDE_NAMES:
+        return f"{parts[0]}.{parts[2]}"
+    if len(parts) == 4 and parts[0] == "wear" and parts[2] in SIDE_NAMES:
+        return f"wear.{parts[1]}.{parts[3]}"
+    return key
 
 
 def _build(cls: type, table: Any, prefix: str, where: _Where) -> Any:
@@ -297,6 +387,9 @@ def _build(cls: type, table: Any, prefix: str, where: _Where) -> Any:
         raise _expect(where, prefix, f"a table [{prefix}]", table)
     fields = section_fields(cls)
     for key in table:
+        if f"{prefix}.{key}" in REMOVED_KEYS:
+            raise where.error(f"{prefix}.{key}", "this key was removed: "
+                              + REMOVED_KEYS[f"{prefix}.{key}"] + "; delete it from the config")
         if key not in fields:
             valid = ", ".join(fields)
             raise where.error(f"{prefix}.{key}", f"unknown key in [{prefix}]; valid keys: {valid}")
@@ -311,26 +404,46 @@ def _build(cls: type, table: Any, prefix: str, where: _Where) -> Any:
 
 
 def _convert(hint: Any, value: Any, key: str, where: _Where) -> Any:
-    converter = _CONVERTERS.get(hint)
+    converter = _as_gauge_point if key in _GAUGE_POINT_KEYS else _CONVERTERS.get(hint)
     if converter is None:   # a field type added to model.py without a converter: programming error
         raise TypeError(f"no TOML converter for {key} of type {hint!r}")
-    if value is None and hint in (str | None, Path | None):
+    if value is None and hint in (str | None, Path | None, float | None, bool | None):
         return None
     out = converter(value, key, where)
-    rule = _RULES.get(key)
+    rule = _RULES.get(_rule_key(key))
     if rule is not None and not rule[0](out):
         raise _expect(where, key, rule[1], value)
     return out
 
 
 def _check_source(section: Any, name: str, where: _Where) -> None:
+    """One section's own source keys: not both profile and generator, no format for a
+    generator."""
     if section.profile is not None and section.generator is not None:
         raise where.error(name, "give either 'profile' (a file) or 'generator', not both")
-    if section.profile is None and section.generator is None:
-        raise where.error(name, "expected 'profile = \"path\"' or 'generator = \"...\"', "
-                                "got neither")
     if section.generator is not None and section.format is not None:
         raise where.error(f"{name}.format", "'format' applies to a profile file, not a generator")
+
+
+def _check_sides(base: Any, name: str, where: _Where) -> None:
+    """``[wheel]`` / ``[rail]`` and their side sections: each side must end up with exactly one
+    source (its own or the base's)."""
+    _check_source(base, name, where)
+    for side in SIDE_NAMES:
+        _check_source(getattr(base, side), f"{name}.{side}", where)
+    for side in SIDE_NAMES:
+        res = base.side(side)
+        if res.profile is None and res.generator is None:
+            if not base.per_side:
+                raise where.error(name, "expected 'profile = \"path\"' or "
+                                        "'generator = \"...\"', got neither")
+            other = SIDE_NAMES[1 - SIDE_NAMES.index(side)]
+            raise where.error(f"{name}.{side}", f"the {side} {name} has no profile: [{name}] "
+                              f"gives none and [{name}.{side}] is missing or gives none "
+                              f"(while [{name}.{other}] is given)")
+        if res.generator is not None and res.format is not None:
+            raise where.error(f"{name}.{side}.format",
+                              "'format' applies to a profile file, not a generator")
 
 
 def _check_output(cfg: Config, where: _Where) -> None:
@@ -343,6 +456,10 @@ def _check_output(cfg: Config, where: _Where) -> None:
             if q not in QUANTITIES:
                 raise _expect(where, "output.quantities",
                               '["all"] or names from ' + ", ".join(QUANTITIES), q)
+    if cfg.contact.roll == "zero" and set(cfg.output.methods) != {"reference"}:
+        raise where.error("contact.roll", "roll = 'zero' (wheelset held level) applies to the "
+                          "rigid reference only: expected output.methods = ['reference'], got "
+                          f"{list(cfg.output.methods)!r}")
     if cfg.contact.method not in cfg.output.methods:
         raise where.error("output.methods", f"contact.method {cfg.contact.method!r} must be one of "
                                             f"output.methods, got {list(cfg.output.methods)!r}")
@@ -350,8 +467,8 @@ def _check_output(cfg: Config, where: _Where) -> None:
 
 def _check_cross(cfg: Config, where: _Where) -> None:
     """Rules that involve more than one key."""
-    _check_source(cfg.wheel, "wheel", where)
-    _check_source(cfg.rail, "rail", where)
+    _check_sides(cfg.wheel, "wheel", where)
+    _check_sides(cfg.rail, "rail", where)
     need = cfg.wheelset.back_to_back_mm + 2.0 * MIN_FLANGE_THICKNESS_MM
     if cfg.track.gauge_mm <= need:
         raise where.error("track.gauge_mm", f"expected gauge > back_to_back_mm + 2 x "

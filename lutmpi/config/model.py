@@ -4,6 +4,7 @@ in the TOML; the ``*_m`` properties give SI values. Defaults here are THE defaul
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -17,40 +18,131 @@ from lutmpi.contact.methods import METHOD_NAMES as ALL_METHODS  # noqa: E402, F4
 WHEEL_GENERATORS = ("S1002",)
 RAIL_GENERATORS = ("UIC60",)
 EQUILIBRIUM_SOLVERS = ("newton", "fixed_point")
-# Per-point quantities a table can hold (``[output] quantities``; "all" = every one). The names are
-# the dataset names of ``lutmpi/table/schema.py``. ALWAYS_STORED are written whatever is selected.
-QUANTITIES = ("z_g", "roll", "x_g", "pitch", "wheel_point", "rail_point", "normal", "indentation",
-              "kc", "rolling_radius", "contact_angle", "wheel_s", "rail_v", "curvatures",
-              "n_contacts", "force")
-ALWAYS_STORED = ("status", "iterations", "compute_time")
+# Per-point quantities a table can hold (``[output] quantities``; "all" = every one), derived from
+# the schema, the only list of dataset names. ALWAYS_STORED are written whatever is selected.
+from lutmpi.table.schema import ALWAYS_STORED, QUANTITIES  # noqa: E402, F401
+
+SIDE_NAMES = ("left", "right")
+WHEEL_ORIGINS = ("tape_circle", "flange_back")
+GAUGE_POINTS = ("depth", "first", "last")
+
+
+def cant_rad(value: str | float) -> float:
+    """A rail cant as given in a config: ``"1:N"``, ``"none"`` or a number (rad) -> rad."""
+    if isinstance(value, str):
+        if value == "none":
+            return 0.0
+        return math.atan(1.0 / float(value.split(":")[1]))
+    return float(value)
+
+
+@dataclass(frozen=True)
+class WheelSideConfig:
+    """``[wheel.left]`` / ``[wheel.right]``: this wheel's own keys; None = as in ``[wheel]``.
+    A side that gives ``profile`` or ``generator`` takes none of ``[wheel]``'s source keys
+    (profile, generator, format)."""
+
+    profile: Path | None = None
+    generator: str | None = None
+    format: str | None = None
+    nominal_radius_mm: float | None = None
+    flip_y: bool | None = None
+    flip_z: bool | None = None
+    offset_y_mm: float | None = None
+    offset_z_mm: float | None = None
+    origin: str | None = None
 
 
 @dataclass(frozen=True)
 class WheelConfig:
-    """``[wheel]``: a profile file or a generator, and the nominal rolling radius."""
+    """``[wheel]``: a profile file or a generator, the nominal rolling radius and the reading
+    options; both wheels (mirrored) unless ``[wheel.left]`` / ``[wheel.right]`` say otherwise."""
 
     profile: Path | None = None      # resolved relative to the config file
     generator: str | None = None     # "S1002"
     format: str | None = None        # reader name; None = detect from extension/content
     nominal_radius_mm: float = 460.0
+    flip_y: bool = False             # negate the lateral coordinate as read
+    flip_z: bool = False             # negate the radius increment as read
+    offset_y_mm: float = 0.0         # added to s after the flips and the origin
+    offset_z_mm: float = 0.0         # added to the radius increment
+    origin: str = "tape_circle"      # "tape_circle" or "flange_back" (s = 0 of the file)
+    left: WheelSideConfig = field(default_factory=WheelSideConfig)
+    right: WheelSideConfig = field(default_factory=WheelSideConfig)
 
     @property
     def nominal_radius_m(self) -> float:
         return self.nominal_radius_mm * 1e-3
 
+    @property
+    def per_side(self) -> bool:
+        """True when either side has a section of its own."""
+        return self.left != WheelSideConfig() or self.right != WheelSideConfig()
+
+    def side(self, name: str) -> WheelConfig:
+        """The resolved config of wheel ``name`` (no side sections left)."""
+        return _resolve(self, getattr(self, name), WheelSideConfig)
+
+
+@dataclass(frozen=True)
+class RailSideConfig:
+    """``[rail.left]`` / ``[rail.right]``: this rail's own keys; None = as in ``[rail]``."""
+
+    profile: Path | None = None
+    generator: str | None = None
+    format: str | None = None
+    inclination: str | float | None = None
+    flip_y: bool | None = None
+    flip_z: bool | None = None
+    offset_y_mm: float | None = None
+    offset_z_mm: float | None = None
+    gauge_point: str | float | None = None
+    gauge_depth_mm: float | None = None
+
 
 @dataclass(frozen=True)
 class RailConfig:
-    """``[rail]``: a profile file or a generator, and the inclination to apply."""
+    """``[rail]``: a profile file or a generator, the cant to apply, reading options and the
+    gauge point; both rails (mirrored) unless ``[rail.left]`` / ``[rail.right]`` say otherwise."""
 
     profile: Path | None = None
     generator: str | None = None     # "UIC60"
     format: str | None = None
-    inclination: str = "1:20"        # "1:20", "1:40", "1:30", or "none" (file already canted)
+    inclination: str | float = "1:20"  # "1:N", "none" (file already canted), or rad
+    flip_y: bool = False
+    flip_z: bool = False
+    offset_y_mm: float = 0.0
+    offset_z_mm: float = 0.0
+    gauge_point: str | float = "depth"  # "depth", "first", "last", or v in mm
+    gauge_depth_mm: float | None = None  # None: track.gauge_depth_mm
+    left: RailSideConfig = field(default_factory=RailSideConfig)
+    right: RailSideConfig = field(default_factory=RailSideConfig)
 
     @property
     def inclination_rad(self) -> float:
-        return INCLINATIONS[self.inclination]
+        return cant_rad(self.inclination)
+
+    @property
+    def per_side(self) -> bool:
+        return self.left != RailSideConfig() or self.right != RailSideConfig()
+
+    def side(self, name: str) -> RailConfig:
+        """The resolved config of rail ``name`` (no side sections left)."""
+        return _resolve(self, getattr(self, name), RailSideConfig)
+
+
+_SOURCE = ("profile", "generator", "format")
+
+
+def _resolve(base, side, empty_cls):
+    """``base`` with the non-None keys of ``side``; a side that names its own profile or
+    generator takes none of the base's source keys."""
+    own = {f.name: getattr(side, f.name) for f in dataclasses.fields(side)
+           if getattr(side, f.name) is not None}
+    if "profile" in own or "generator" in own:
+        for key in _SOURCE:
+            own.setdefault(key, None)
+    return dataclasses.replace(base, **own, left=empty_cls(), right=empty_cls())
 
 
 @dataclass(frozen=True)
@@ -86,7 +178,6 @@ class MeshConfig:
     rail_longitudinal_mm: float = 0.5      # spacing along the track
     window: bool = True                    # mesh only where contact can occur
     window_gap_mm: float = 0.02            # window depth beyond the expected penetration
-    window_margin_mm: float = 2.0          # extra margin around the window (both directions)
 
 
 @dataclass(frozen=True)
@@ -95,6 +186,7 @@ class ContactConfig:
     allowed_indentation_mm: float = 0.01   # C_max^amm of eq. (9)
     max_contacts_per_wheel: int = 2        # §4.6 double contact
     extrapolate: bool = True               # report the pose extrapolated to zero indentation
+    roll: str = "solved"                   # "solved", or "zero" (reference only: Annex E Δr)
 
 
 @dataclass(frozen=True)
@@ -128,30 +220,58 @@ class MaterialConfig:
 
 @dataclass(frozen=True)
 class FlangeConfig:
-    """Flange stiffness model of §4.5 (Table 1 cantilever; linear k_c from base to tip)."""
+    """Flange stiffness model of §4.5 (linear k_c factor from base to tip, the paper's
+    chi = 0.082: ``lutmpi/contact/stiffness.py``)."""
 
     enabled: bool = True
-    cantilever_b_mm: float = 320.0
-    cantilever_h_mm: float = 45.0
-    cantilever_l_mm: float = 27.5
     # radius increment (above the tape circle) where the flange base starts
     base_height_mm: float = 2.0
 
 
 @dataclass(frozen=True)
+class WheelWearSideConfig:
+    """``[wear.wheel.left]`` / ``[wear.wheel.right]``: one wheel's own wear; None = as
+    ``[wear.wheel]``."""
+
+    flange_thinning_mm: float | None = None
+    tread_hollowing_mm: float | None = None
+
+
+@dataclass(frozen=True)
 class WheelWearConfig:
-    """``[wear.wheel]``: parametric wheel wear (applied by ``lutmpi/profiles/wear.py``)."""
+    """``[wear.wheel]``: parametric wheel wear (applied by ``lutmpi/profiles/wear.py``), both
+    wheels unless ``[wear.wheel.left]`` / ``[wear.wheel.right]`` say otherwise."""
 
     flange_thinning_mm: float = 0.0    # material removed from the flange face (Sd decreases)
     tread_hollowing_mm: float = 0.0    # depth of a hollow worn into the tread at the tape circle
+    left: WheelWearSideConfig = field(default_factory=WheelWearSideConfig)
+    right: WheelWearSideConfig = field(default_factory=WheelWearSideConfig)
+
+    def side(self, name: str) -> WheelWearConfig:
+        return _resolve(self, getattr(self, name), WheelWearSideConfig)
+
+
+@dataclass(frozen=True)
+class RailWearSideConfig:
+    """``[wear.rail.left]`` / ``[wear.rail.right]``: one rail's own wear; None = as
+    ``[wear.rail]``."""
+
+    vertical_mm: float | None = None
+    side_mm: float | None = None
 
 
 @dataclass(frozen=True)
 class RailWearConfig:
-    """``[wear.rail]``: parametric wear applied to the rail head (``lutmpi/profiles/wear.py``)."""
+    """``[wear.rail]``: parametric wear applied to the rail head (``lutmpi/profiles/wear.py``),
+    both rails unless ``[wear.rail.left]`` / ``[wear.rail.right]`` say otherwise."""
 
     vertical_mm: float = 0.0           # head height lost at the rail centre line
     side_mm: float = 0.0               # gauge-face material lost, measured at the gauge depth
+    left: RailWearSideConfig = field(default_factory=RailWearSideConfig)
+    right: RailWearSideConfig = field(default_factory=RailWearSideConfig)
+
+    def side(self, name: str) -> RailWearConfig:
+        return _resolve(self, getattr(self, name), RailWearSideConfig)
 
 
 @dataclass(frozen=True)
@@ -164,8 +284,11 @@ class WearConfig:
     @property
     def any(self) -> bool:
         """True when any wear parameter is non-zero."""
-        return any(v != 0.0 for v in (self.wheel.flange_thinning_mm, self.wheel.tread_hollowing_mm,
-                                      self.rail.vertical_mm, self.rail.side_mm))
+        vals = []
+        for s in SIDE_NAMES:
+            w, r = self.wheel.side(s), self.rail.side(s)
+            vals += [w.flange_thinning_mm, w.tread_hollowing_mm, r.vertical_mm, r.side_mm]
+        return any(v != 0.0 for v in vals)
 
 
 @dataclass(frozen=True)
@@ -174,6 +297,7 @@ class OutputConfig:
 
     methods: tuple[str, ...] = ("load_centre",)
     quantities: tuple[str, ...] = ("all",)
+    refine: bool = True     # refine the pieces between contact jumps (lutmpi/table/jumps.py)
 
 
 @dataclass(frozen=True)

@@ -93,9 +93,14 @@ def _absolutize_profiles(data: Mapping, base_dir: Path) -> dict:
     Only paths that exist there are rewritten; others are left for the loader's search (and error).
     """
     data = copy.deepcopy(dict(data))
+    tables = []
     for section in ("wheel", "rail"):
         table = data.get(section)
-        if isinstance(table, dict) and isinstance(table.get("profile"), str):
+        if isinstance(table, dict):
+            tables.append(table)
+            tables += [table[s] for s in ("left", "right") if isinstance(table.get(s), dict)]
+    for table in tables:
+        if isinstance(table.get("profile"), str):
             cand = base_dir / Path(table["profile"]).expanduser()
             try:
                 if cand.is_file():

@@ -18,13 +18,15 @@ condition ``(R n)_x = 0`` reads ``a sin phi - c cos phi = b r'``, i.e.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
+from numba import njit
+from scipy.optimize import brentq, minimize_scalar
 
 from lutmpi.geometry.pose import wheelset_rotation
-from lutmpi.geometry.track import PlacedRail, WheelGeometry
+from lutmpi.geometry.track import SIDES, PlacedRail, WheelGeometry
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,6 +41,10 @@ class LocusSampling:
     def build(cls, wheel: WheelGeometry, ds: float = 1e-4) -> LocusSampling:
         s = np.arange(np.ceil(wheel.s_min / ds), np.floor(wheel.s_max / ds) + 1) * ds
         return cls(s=s, r=wheel.radius(s), dr=wheel.dr(s))
+
+    @property
+    def all_idx(self) -> np.ndarray:
+        return np.arange(self.s.size, dtype=np.int64)
 
 
 @dataclass
@@ -135,7 +141,8 @@ def contact_minima(gap: np.ndarray, double_tol: float, max_contacts: int = 2) ->
 
 @dataclass
 class RigidContact:
-    """A rigid contact found by the locus method (track frame, SI)."""
+    """A rigid contact found by the locus method (track frame, SI). ``at_end``: the gap minimum
+    lies on the first or last usable point of the wheel's or the rail's data."""
 
     side: float
     s: float
@@ -143,11 +150,31 @@ class RigidContact:
     point: np.ndarray
     u: float
     gap: float
+    at_end: bool = False
+
+
+@dataclass(frozen=True)
+class RigidRoot:
+    """One rigid two-wheel contact solution (a root of ``h(roll) = z_left - z_right``).
+
+    ``stable``: ``h`` falls through zero with increasing roll, so ``max(z_left, z_right)`` — the
+    lowest height the wheelset can take at that roll — has a local minimum there (a local minimum
+    of the potential energy under the vertical load). ``at_end``: a contact of this root lies on
+    the end of a profile's data."""
+
+    roll: float
+    z_g: float
+    stable: bool
+    at_end: bool
 
 
 @dataclass
 class RigidSolution:
-    """Rigid two-point contact pose from the locus method."""
+    """Rigid two-point contact pose from the locus method.
+
+    ``n_roots`` counts the rigid solutions found over the admissible roll range (0: no rigid
+    contact exists); ``roots`` lists them; ``at_end`` is True when the chosen one has a contact
+    on the end of a profile's data (its numbers are then not a valid contact)."""
 
     y: float
     yaw: float
@@ -158,6 +185,163 @@ class RigidSolution:
     nit: int
     contacts: dict[str, list[RigidContact]] = field(default_factory=dict)
     loci: dict[str, Locus] = field(default_factory=dict)
+    n_roots: int = 0
+    roots: tuple[RigidRoot, ...] = ()
+    at_end: bool = False
+
+
+SCAN_DS = 1e-3  # m, wheel sample spacing of the roll scan
+SCAN_STEP = 5e-4  # rad, roll step of the scan
+SCAN_BAND = 5e-3  # m, coarse gap minima this close to the smallest are refined on all samples
+MAX_SHIFT = 8  # scan steps a coarse bracket may move on the full samples
+MEMO_SIZE = 8  # rigid solutions kept per solver
+ROLL_MARGIN = 1e-2  # rad, added to the geometric roll bound (locus angles under yaw)
+
+
+# -- compiled gap loops -------------------------------------------------------------------------
+@njit(cache=True)
+def _side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap):
+    """Vertical gaps (G at height 0) of the locus points ``idx`` of one wheel (side sign
+    ``sgn``) to its rail, written into ``gap``; returns the touching height (minus the parabolic
+    minimum over the samples, -inf when no point is over the rail) and the index of the
+    minimum within ``idx`` (-1 when none)."""
+    a, b, c = R[0, 0], R[0, 1], R[0, 2]
+    amp = np.sqrt(a * a + c * c)
+    beta = np.arctan2(c, a)
+    nt = tabz.size
+    best, ib = np.inf, -1
+    for q in range(idx.size):
+        k = idx[q]
+        x = b * sgn * dr[k] / amp
+        x = min(max(x, -1.0), 1.0)
+        phi = beta + np.arcsin(x)
+        rk = r[k]
+        bx, by, bz = rk * np.sin(phi), sgn * (d + s[k]), -rk * np.cos(phi)
+        py = R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz + y
+        pz = R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz
+        u = sgn * py
+        g = np.inf
+        if u >= u_min and u <= u_max:
+            f = (u - u0) / du
+            j = min(max(int(f), 0), nt - 2)
+            t = f - j
+            g = pz - (tabz[j] + t * (tabz[j + 1] - tabz[j]))
+        gap[q] = g
+        if g < best:
+            best, ib = g, q
+    if ib < 0:
+        return -np.inf, -1
+    val = gap[ib]
+    if 0 < ib < idx.size - 1:
+        gm, gp = gap[ib - 1], gap[ib + 1]
+        if np.isfinite(gm) and np.isfinite(gp):
+            den = gm - 2.0 * val + gp
+            if den > 0.0:
+                t = 0.5 * (gm - gp) / den
+                t = min(max(t, -0.5), 0.5)
+                val = val - 0.25 * (gm - gp) * t
+    return -val, ib
+
+
+@njit(cache=True)
+def _scan_side(idx, sgn, s, r, dr, d, R, y, tab, lim, gap, fine):
+    """Touching height of one wheel from the coarse samples ``idx``, refined on every sample
+    within one coarse step of each coarse local minimum less than :data:`SCAN_BAND` above the
+    smallest and of each coarse sample next to the end of the data (a narrow minimum, e.g. a
+    yawed flange flank on the last points of a rail, falls between coarse samples: up to 3 mm
+    of gap on the measured profiles); -inf when no point is over the rail."""
+    h, ib = _side_gaps(idx, sgn, s, r, dr, d, R, y, lim[0], lim[1], tab, lim[2], lim[3], gap)
+    if ib < 0:
+        return h
+    step = idx[1] - idx[0] if idx.size > 1 else 1
+    limit = gap[ib] + SCAN_BAND
+    n = idx.size
+    for q in range(n):
+        g = gap[q]
+        if not np.isfinite(g):
+            continue
+        edge = q == 0 or q == n - 1 or not (np.isfinite(gap[q - 1]) and np.isfinite(gap[q + 1]))
+        if not edge:  # the end of the data (a knife edge) is always refined
+            if g > limit or gap[q - 1] < g or gap[q + 1] < g:
+                continue  # not a coarse local minimum near the smallest
+        lo, hi = max(idx[q] - step, 0), min(idx[q] + step + 1, s.size)
+        sub = np.arange(lo, hi)
+        h2, _ = _side_gaps(sub, sgn, s, r, dr, d, R, y, lim[0], lim[1], tab, lim[2], lim[3],
+                           fine[:sub.size])
+        h = max(h, h2)
+    return h
+
+
+@njit(cache=True)
+def _scan(rolls, yaw, y, idx_l, s_l, r_l, dr_l, d_l, tab_l, lim_l,
+          idx_r, s_r, r_r, dr_r, d_r, tab_r, lim_r):
+    """``h(roll) = z_left - z_right`` at every roll of ``rolls`` (NaN where a wheel has no point
+    over its rail), pitch 0. Per side: coarse sample indices, the samples (s, r, dr), the
+    tape-circle distance, the rail's height table and ``lim = (u0, du, u_min, u_max)``."""
+    out = np.empty(rolls.size)
+    gl = np.empty(idx_l.size)
+    gr = np.empty(idx_r.size)
+    fine = np.empty(4 * (idx_l.size + idx_r.size) + 8)
+    cy, sy = np.cos(yaw), np.sin(yaw)
+    R = np.empty((3, 3))
+    for i in range(rolls.size):
+        cr, sr = np.cos(rolls[i]), np.sin(rolls[i])
+        R[0, 0], R[0, 1], R[0, 2] = cy, -sy * cr, sy * sr
+        R[1, 0], R[1, 1], R[1, 2] = sy, cy * cr, -cy * sr
+        R[2, 0], R[2, 1], R[2, 2] = 0.0, sr, cr
+        hl = _scan_side(idx_l, 1.0, s_l, r_l, dr_l, d_l, R, y, tab_l, lim_l, gl, fine)
+        hr = _scan_side(idx_r, -1.0, s_r, r_r, dr_r, d_r, R, y, tab_r, lim_r, gr, fine)
+        out[i] = hl - hr if (np.isfinite(hl) and np.isfinite(hr)) else np.nan
+    return out
+
+
+# -- one side ----------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class LocusSide:
+    """Pose-independent data of one wheel on its rail: samples, the rail's height table."""
+
+    name: str
+    sign: float
+    wheel: WheelGeometry
+    rail: PlacedRail
+    samp: LocusSampling
+    coarse: np.ndarray  # sample indices of the roll scan (every SCAN_DS)
+    lim: np.ndarray  # (u0, du, u_min, u_max) of the rail's height table
+
+    @classmethod
+    def build(cls, name: str, wheel: WheelGeometry, rail: PlacedRail, ds: float) -> LocusSide:
+        samp = LocusSampling.build(wheel, ds)
+        step = max(1, int(round(SCAN_DS / ds)))
+        u0, du, _ = rail.height_table
+        return cls(name=name, sign=SIDES[name], wheel=wheel, rail=rail, samp=samp,
+                   coarse=np.unique(np.append(np.arange(0, samp.s.size, step),
+                                              samp.s.size - 1)).astype(np.int64),
+                   lim=np.array([u0, du, rail.u_min, rail.u_max]))
+
+    def height(self, y: float, R: np.ndarray, idx: np.ndarray,
+               gap: np.ndarray) -> tuple[float, int]:
+        """Touching height of G for this wheel and the index (into ``idx``) of the minimum."""
+        sp, lim = self.samp, self.lim
+        return _side_gaps(idx, self.sign, sp.s, sp.r, sp.dr, self.wheel.d, R, y, lim[0], lim[1],
+                          self.rail.height_table[2], lim[2], lim[3], gap)
+
+    def at_end(self, gap: np.ndarray, i: int) -> bool:
+        """True when sample ``i`` (the gap minimum) is a first/last usable point of the wheel,
+        or next to a point that is not over the rail (the end of the rail's data)."""
+        n = gap.size
+        if i <= 0 or i >= n - 1:
+            return True
+        return not (np.isfinite(gap[i - 1]) and np.isfinite(gap[i + 1]))
+
+
+
+
+def _per_side(obj, kind: type) -> dict[str, object]:
+    if isinstance(obj, kind):
+        return {name: obj for name in SIDES}
+    if set(obj) != set(SIDES):
+        raise ValueError(f"expected one {kind.__name__} or one per side {list(SIDES)}")
+    return dict(obj)
 
 
 class LocusSolver:
@@ -165,107 +349,129 @@ class LocusSolver:
 
     Parameters
     ----------
-    wheel, rail : placed geometry (one wheel and one rail; sides by mirroring)
+    wheel, rail : placed geometry, one for both sides (mirrored) or a mapping
+        ``{"left": ..., "right": ...}``
     ds : float
         Sample spacing along the wheel profile, m.
     double_tol : float
         Gap tolerance for a second contact (double contact), m.
+
+    Root selection (every pose)
+        ``h(roll) = z_left(roll) - z_right(roll)`` (the heights of G at which each wheel touches
+        its rail) is scanned over the whole admissible roll range ``|roll| <= roll_max`` (step
+        :data:`SCAN_STEP`, wheel samples every :data:`SCAN_DS`); every sign change, every dip of
+        ``|h|`` between scan points that crosses zero, and every edge of a range where a wheel
+        has no point over its rail (``h`` NaN on one side) is a bracket, refined by Brent's method
+        on the full samples. The wheelset under its vertical load can only sit at
+        ``z = max(z_left, z_right)``; a root where ``h`` falls through zero is a local minimum of
+        that height (stable), one where ``h`` rises through zero a local maximum (unstable).
+        **Criterion**: the stable root of lowest ``z_g`` (minimum potential energy under the
+        vertical load). When one of its contacts lies on the end of a profile's data it is
+        returned with ``at_end = True`` (the data do not reach the contact: not a valid result).
     """
 
     def __init__(
         self,
-        wheel: WheelGeometry,
-        rail: PlacedRail,
+        wheel: WheelGeometry | Mapping[str, WheelGeometry],
+        rail: PlacedRail | Mapping[str, PlacedRail],
         ds: float = 1e-4,
         double_tol: float = 1e-5,
         max_contacts: int = 2,
+        hold_roll: bool = False,
     ):
-        self.wheel, self.rail = wheel, rail
-        self.samp = LocusSampling.build(wheel, ds)
+        wheels, rails = _per_side(wheel, WheelGeometry), _per_side(rail, PlacedRail)
+        self.hold_roll = hold_roll
+        self.sides = {name: LocusSide.build(name, wheels[name], rails[name], ds) for name in SIDES}
         self.double_tol = double_tol
         self.max_contacts = max_contacts
-        s = self.samp
-        self._side2 = np.concatenate([np.ones_like(s.s), -np.ones_like(s.s)])
-        self._s2 = np.concatenate([s.s, s.s])
-        self._r2 = np.concatenate([s.r, s.r])
-        self._dr2 = np.concatenate([s.dr, s.dr])
-        self._all_idx = np.arange(2 * s.s.size)
+        self.lever = 0.5 * (wheels["left"].d + wheels["right"].d)
+        self.roll_max = self._roll_bound()
+        n = int(np.ceil(self.roll_max / SCAN_STEP))
+        self.scan_rolls = np.linspace(-n * SCAN_STEP, n * SCAN_STEP, 2 * n + 1)
+        self._memo: dict[tuple, RigidSolution] = {}
 
+    def _roll_bound(self) -> float:
+        """Admissible roll range. At a root both wheels touch, so
+        ``sin(roll) (d_L + s_L + d_R + s_R) = (z_rail,L - z_rail,R) + cos(roll) (r_L cos phi_L -
+        r_R cos phi_R)``: ``|roll|`` is at most the span of both rails' heights plus the span of
+        both wheels' radii over the smallest lever ``d + s_min`` of the two wheels, plus
+        :data:`ROLL_MARGIN` for the locus angles ``phi`` of a yawed wheelset."""
+        sd = list(self.sides.values())
+        z = np.concatenate([x.rail.z for x in sd])
+        r = np.concatenate([x.samp.r for x in sd])
+        lever = sum(x.wheel.d + x.samp.s[0] for x in sd)
+        return float(min(np.arcsin(min((np.ptp(z) + np.ptp(r)) / lever, 1.0)) + ROLL_MARGIN,
+                         0.25))
+
+    # -- heights ---------------------------------------------------------------------------
     def heights(self, y: float, yaw: float, roll: float,
-                sub: np.ndarray | None = None) -> tuple[float, float]:
-        """Touching heights (left, right) for this roll, both sides in one compiled pass;
-        ``sub`` restricts the samples (sorted indices into the two concatenated sides)."""
-        from lutmpi.contact.kernels import locus_heights
-
+                sub: Mapping[str, np.ndarray] | None = None) -> tuple[float, float]:
+        """Touching heights (left, right) of G at this roll; ``sub`` restricts each side's
+        samples (sorted indices). The gaps are kept in ``self._last_gap`` (per side)."""
         R = wheelset_rotation(yaw, roll)
-        idx = self._all_idx if sub is None else sub
-        gap = np.empty(idx.size)
-        rail = self.rail
-        hl, hr = locus_heights(idx, self.samp.s.size, self._side2, self._s2, self._r2,
-                               self._dr2, self.wheel.d, R, y, *rail.height_table, rail.u_min,
-                               rail.u_max, gap)
-        self._last_gap = gap
-        return hl, hr
+        out, gaps, mins = [], {}, {}
+        for name, sd in self.sides.items():
+            idx = sd.samp.all_idx if sub is None else sub[name]
+            gap = np.empty(idx.size)
+            h, i = sd.height(y, R, idx, gap)
+            out.append(h)
+            gaps[name], mins[name] = gap, i
+        self._last_gap, self._last_min = gaps, mins
+        return out[0], out[1]
 
-    def _candidates(self, gap: np.ndarray, band: float = 5e-4, half: int = 30) -> np.ndarray:
-        """Indices (both sides concatenated) near every local gap minimum within ``band`` of
-        its side's smallest: the only samples that can hold the minimum for small roll changes."""
-        n = self.samp.s.size
-        out = []
-        for off in (0, n):
-            g = gap[off:off + n]
+    def _h(self, y: float, yaw: float, roll: float, sub=None) -> float:
+        zl, zr = self.heights(y, yaw, roll, sub)
+        return zl - zr if np.isfinite(zl) and np.isfinite(zr) else np.nan
+
+    def _candidates(self, band: float = 5e-4, half: int = 30) -> dict[str, np.ndarray]:
+        """Per side, the samples near every local gap minimum within ``band`` of the side's
+        smallest (from the last full evaluation): the only samples that can hold the minimum
+        for small roll changes."""
+        out = {}
+        for name, g in self._last_gap.items():
+            n = g.size
             mins = local_minima(g)
             if mins.size == 0:
-                out.append(off + np.arange(n))
+                out[name] = np.arange(n)
                 continue
             mins = mins[g[mins] <= np.min(g[mins]) + band]
             i = (mins[:, None] + np.arange(-half, half + 1)[None, :]).ravel()
-            out.append(off + np.unique(np.clip(i, 0, n - 1)))
-        return np.concatenate(out)
+            out[name] = np.unique(np.clip(i, 0, n - 1))
+        return out
 
-    def solve(
-        self, y: float, yaw: float, xtol: float = 1e-13, max_secant: int = 12
-    ) -> RigidSolution:
-        """Rigid two-point contact: z_g and roll such that both wheels touch.
-
-        Secant iteration on the height mismatch ``h(roll) = z_left - z_right`` from a lever-arm
-        estimate; Brent's method on a bracket whenever the secant stalls (contact-point jumps
-        make ``h`` piecewise smooth). The iterations use only the samples near the gap minima
-        found on the whole profile; the result is checked on the whole profile and solved again
-        if the minimum moved elsewhere (a contact jump)."""
+    # -- the local solve (a start near roll 0) -----------------------------------------------
+    def _local(self, y: float, yaw: float, xtol: float, max_secant: int) -> tuple[float | None,
+                                                                                   int]:
+        """Secant iteration on ``h`` from roll 0 on the samples near the gap minima, checked on
+        the whole profile (solved again if the minimum moved: a contact jump)."""
         nit = 0
-        sub: list[np.ndarray | None] = [None]
+        sub: list = [None]
 
         def h(roll: float) -> float:
             nonlocal nit
             nit += 1
-            zl, zr = self.heights(y, yaw, roll, sub[0])
-            return zl - zr
+            return self._h(y, yaw, roll, sub[0])
 
-        f0 = h(0.0)
-        if not np.isfinite(f0):
-            return RigidSolution(y, yaw, np.nan, np.nan, False,
-                                 "a wheel has no contact candidate on its rail at zero roll", nit)
-        roll = 0.0
+        if not np.isfinite(h(0.0)):
+            return None, nit
+        roll: float | None = 0.0
         for _ in range(3):
-            sub[0] = self._candidates(self._last_gap)
-            roll = self._solve_roll(h, roll, xtol, max_secant)
+            sub[0] = self._candidates()
+            roll = self._secant(h, roll, xtol, max_secant)
             if roll is None:
-                return RigidSolution(y, yaw, np.nan, np.nan, False,
-                                     "no roll brackets the two-point contact (wheel off the rail?)",
-                                     nit)
+                return None, nit
             part = self.heights(y, yaw, roll, sub[0])
             full = self.heights(y, yaw, roll)
             nit += 2
             if abs(part[0] - full[0]) <= 1e-12 and abs(part[1] - full[1]) <= 1e-12:
                 break
-        return self.finish(y, yaw, roll, nit)
+        return roll, nit
 
-    def _solve_roll(self, h, roll0: float, xtol: float, max_secant: int) -> float | None:
+    def _secant(self, h, roll0: float, xtol: float, max_secant: int) -> float | None:
         x0, f0 = roll0, h(roll0)
         if not np.isfinite(f0):
-            return self._bracketed(h, [], xtol)
-        x1 = x0 + f0 / (2.0 * self.wheel.d)
+            return None
+        x1 = x0 + f0 / (2.0 * self.lever)
         f1 = h(x1)
         pts = [(x0, f0), (x1, f1)]
         for _ in range(max_secant):
@@ -277,31 +483,137 @@ class LocusSolver:
             pts.append((x1, f1))
             if abs(x1 - x0) <= xtol or f1 == 0.0:
                 return x1
-        return self._bracketed(h, pts, xtol)
-
-    @staticmethod
-    def _bracketed(h, pts: list[tuple[float, float]], xtol: float) -> float | None:
-        """Brent's method from the best sign change among evaluated points (expanding if none)."""
         pts = sorted((x, f) for x, f in pts if np.isfinite(f))
         for (xa, fa), (xb, fb) in zip(pts[:-1], pts[1:], strict=True):
             if fa * fb <= 0:
                 return float(brentq(h, xa, xb, xtol=xtol, rtol=4 * np.finfo(float).eps))
-        lo, hi = -0.02, 0.02
-        for _ in range(5):
-            flo, fhi = h(lo), h(hi)
-            if np.isfinite(flo) and np.isfinite(fhi) and flo * fhi <= 0:
-                return float(brentq(h, lo, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))
-            lo, hi = 2 * lo, 2 * hi
         return None
 
-    def finish(self, y: float, yaw: float, roll: float, nit: int = 0) -> RigidSolution:
-        """Contact details at the converged roll."""
+    # -- the scan over the admissible roll range ---------------------------------------------
+    def scan(self, y: float, yaw: float, rolls: np.ndarray | None = None) -> np.ndarray:
+        """``h`` on the scan grid (coarse wheel samples); NaN where a wheel misses its rail."""
+        rolls = self.scan_rolls if rolls is None else np.asarray(rolls, dtype=float)
+        L, Rt = self.sides["left"], self.sides["right"]
+        return _scan(rolls, float(yaw), float(y),
+                     L.coarse, L.samp.s, L.samp.r, L.samp.dr, L.wheel.d,
+                     L.rail.height_table[2], L.lim,
+                     Rt.coarse, Rt.samp.s, Rt.samp.r, Rt.samp.dr, Rt.wheel.d,
+                     Rt.rail.height_table[2], Rt.lim)
+
+    def brackets(self, y: float, yaw: float) -> list[tuple[float, float, bool]]:
+        """Roll intervals holding one root each, with its stability: ``(a, b, stable)``."""
+        return find_brackets(self.scan_rolls, lambda r: self.scan(y, yaw, r))
+
+    # -- the solve ---------------------------------------------------------------------------
+    def solve(self, y: float, yaw: float, xtol: float = 1e-13,
+              max_secant: int = 12) -> RigidSolution:
+        """Every rigid two-point contact at (y, yaw), and the stable one (class docstring).
+
+        A local secant solve from roll 0 gives the usual root cheaply; the scan says whether
+        other roots exist and which one is the stable one; the chosen bracket is solved by
+        Brent's method on the full samples unless the local root already lies in it. The last
+        few solutions are kept (every method of a pose starts from the same rigid solution):
+        treat the result as read-only."""
+        key = (float(y), float(yaw), xtol, max_secant)
+        hit = self._memo.get(key)
+        if hit is None:
+            hit = self._solve(*key)
+            if len(self._memo) >= MEMO_SIZE:
+                self._memo.pop(next(iter(self._memo)))
+            self._memo[key] = hit
+        return hit
+
+    def _solve(self, y: float, yaw: float, xtol: float, max_secant: int) -> RigidSolution:
+        if self.hold_roll:
+            return self._held(y, yaw)
+        local, nit = self._local(y, yaw, xtol, max_secant)
+        brackets = self.brackets(y, yaw)
+        if not brackets and local is None:
+            return RigidSolution(y, yaw, np.nan, np.nan, False,
+                                 "no rigid two-wheel contact over the admissible roll range "
+                                 f"|roll| <= {self.roll_max:.3g} rad (a wheel misses its rail)",
+                                 nit)
+        roots: list[RigidRoot] = []
+        for a, b, stable in brackets:
+            roll = self._root_in(y, yaw, a, b, stable, local, xtol)
+            if roll is not None and all(abs(roll - q.roll) > 1e-9 for q in roots):
+                roots.append(self._describe(y, yaw, roll, stable))
+        if not roots:  # the scan's resolution missed the local root: keep it
+            roots.append(self._describe(y, yaw, local, True))
+        chosen = _choose(roots)
+        if local is not None and _same(local, chosen.roll, self.scan_rolls):
+            roll = local
+        else:
+            roll = chosen.roll
+        out = self.finish(y, yaw, roll, nit)
+        out.n_roots = len(roots)
+        out.roots = tuple(roots)
+        out.at_end = any(c.at_end for cs in out.contacts.values() for c in cs)
+        if out.at_end:
+            out.message = "a contact lies on the end of a profile's data"
+        return out
+
+    def _root_in(self, y, yaw, a, b, stable, local, xtol) -> float | None:
+        """The root of a coarse bracket on the full samples. The coarse samples can misplace a
+        sign change by up to ~1 mrad on a narrow flange contact: when the full-sample ``h`` has
+        no sign change on ``[a, b]`` the bracket is moved a scan step at a time toward the
+        root (the side ``h``'s sign and the root's direction of crossing point to)."""
+        if a == b:
+            return a
+        if local is not None and a <= local <= b:
+            return local
+        h = lambda r: self._h(y, yaw, r)  # noqa: E731
+        fa, fb = h(a), h(b)
+        for _ in range(MAX_SHIFT):
+            if np.isfinite(fa) and np.isfinite(fb) and fa * fb <= 0:
+                return float(brentq(h, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps))
+            ref = fa if np.isfinite(fa) else fb
+            if not np.isfinite(ref):
+                return None
+            # a falling root (stable) lies to the right where h > 0, a rising one to the left
+            if (ref > 0) == stable:
+                a, fa, b = b, fb, b + SCAN_STEP
+                fb = h(b)
+            else:
+                b, fb, a = a, fa, a - SCAN_STEP
+                fa = h(a)
+            if local is not None and a <= local <= b:
+                return local
+        return None
+
+    def _describe(self, y: float, yaw: float, roll: float, stable: bool) -> RigidRoot:
+        zl, zr = self.heights(y, yaw, roll)
+        end = any(sd.at_end(self._last_gap[name], self._last_min[name])
+                  for name, sd in self.sides.items())
+        return RigidRoot(roll=float(roll), z_g=0.5 * (zl + zr), stable=stable, at_end=end)
+
+    def _held(self, y: float, yaw: float) -> RigidSolution:
+        """Roll held at zero (EN 15302 Annex E's Δr): each wheel's contact is the minimum of its
+        own gap with the wheelset level; G sits at the higher of the two touching heights (the
+        other wheel clears its rail by the difference, stored as its contact's gap)."""
+        zl, zr = self.heights(y, yaw, 0.0)
+        if not (np.isfinite(zl) and np.isfinite(zr)):
+            return RigidSolution(y, yaw, np.nan, np.nan, False,
+                                 "a wheel has no point over its rail at zero roll", 1)
+        out = self.finish(y, yaw, 0.0, 1, z_g=max(zl, zr))
+        out.n_roots = 1
+        out.roots = (RigidRoot(roll=0.0, z_g=out.z_g, stable=True, at_end=False),)
+        out.at_end = any(c.at_end for cs in out.contacts.values() for c in cs)
+        if out.at_end:
+            out.message = "a contact lies on the end of a profile's data"
+        return out
+
+    def finish(self, y: float, yaw: float, roll: float, nit: int = 0,
+               z_g: float | None = None) -> RigidSolution:
+        """Contact details at the converged roll (``z_g``: given, else the mean of the two
+        touching heights, which are equal at a root)."""
         R = wheelset_rotation(yaw, roll)
-        loci = {name: compute_locus(side, self.samp, self.wheel, self.rail,
+        loci = {name: compute_locus(sd.sign, sd.samp, sd.wheel, sd.rail,
                                     np.array([0.0, y, 0.0]), R)
-                for name, side in (("left", 1.0), ("right", -1.0))}
-        z_side = [-_parabolic_min(lc.gap, int(np.argmin(lc.gap)))[1] for lc in loci.values()]
-        z_g = 0.5 * (z_side[0] + z_side[1])
+                for name, sd in self.sides.items()}
+        if z_g is None:
+            z_side = [-_parabolic_min(lc.gap, int(np.argmin(lc.gap)))[1] for lc in loci.values()]
+            z_g = 0.5 * (z_side[0] + z_side[1])
         centre = np.array([0.0, y, z_g])
         out = RigidSolution(y, yaw, z_g, roll, True, "converged", nit)
         for name, loc in loci.items():
@@ -310,23 +622,118 @@ class LocusSolver:
             loc.gap += z_g
             out.loci[name] = loc
             out.contacts[name] = [
-                self._refine(loc, i, centre, R)
+                self._refine(self.sides[name], loc, i, centre, R)
                 for i in contact_minima(loc.gap, self.double_tol, self.max_contacts)
             ]
+        if self.hold_roll:  # one contact per wheel: the minimum of its own gap
+            for name in out.contacts:
+                out.contacts[name] = out.contacts[name][:1]
         return out
 
-    def _refine(self, loc: Locus, i: int, centre: np.ndarray, R: np.ndarray) -> RigidContact:
+    @staticmethod
+    def _refine(sd: LocusSide, loc: Locus, i: int, centre: np.ndarray,
+                R: np.ndarray) -> RigidContact:
         t, g = _parabolic_min(loc.gap, i)
         ds = loc.s[1] - loc.s[0]
         s = float(loc.s[i] + t * ds)
-        r = float(self.wheel.radius(s))
-        dr = np.asarray([self.wheel.dr(s)])
+        r = float(sd.wheel.radius(s))
+        dr = np.asarray([sd.wheel.dr(s)])
         phi = float(locus_angles(loc.side, dr, R)[0])
         p = (
             centre
             + wheel_points_body(
-                loc.side, np.array([s]), np.array([r]), np.array([phi]), self.wheel.d
+                loc.side, np.array([s]), np.array([r]), np.array([phi]), sd.wheel.d
             )[0]
             @ R.T
         )
-        return RigidContact(side=loc.side, s=s, phi=phi, point=p, u=float(loc.side * p[1]), gap=g)
+        return RigidContact(side=loc.side, s=s, phi=phi, point=p, u=float(loc.side * p[1]),
+                            gap=g, at_end=sd.at_end(loc.gap, i))
+
+
+
+# -- roots of the height mismatch -------------------------------------------------------------
+def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30,
+                  n_golden: int = 30) -> list[tuple[float, float, bool]]:
+    """Intervals of roll holding one root of ``h`` each, and whether the root is stable.
+
+    Parameters
+    ----------
+    x : ndarray
+        Increasing scan grid of roll, rad.
+    hfun : callable
+        ``hfun(rolls) -> h`` (m), NaN where a wheel misses its rail.
+
+    Returns
+    -------
+    list of (a, b, stable)
+        ``a <= b``; ``a == b`` for an exact zero. ``stable``: ``h`` falls through zero.
+        Besides the sign changes between scan points, the last finite point before every NaN
+        range is found by bisection (a root can sit between a scan point and a NaN range, on
+        either side of roll 0), and every dip of ``|h|`` toward zero between scan points is
+        searched for its extremum (two close roots can hide between two scan points).
+    """
+    h = np.asarray(hfun(x), dtype=float)
+    pts = [(float(a), float(b)) for a, b in zip(x, h, strict=True)]
+    pts += _nan_edges(x, h, hfun, n_bisect) + _dips(x, h, hfun, n_golden)
+    pts.sort()
+    out = []
+    fin = [(a, b) for a, b in pts if np.isfinite(b)]
+    for i, (xa, fa) in enumerate(fin):
+        if fa == 0.0:
+            prev = fin[i - 1][1] if i > 0 else np.nan
+            nxt = fin[i + 1][1] if i + 1 < len(fin) else np.nan
+            out.append((xa, xa, bool(prev > 0 or nxt < 0)))
+        elif i + 1 < len(fin) and fa * fin[i + 1][1] < 0:
+            xb = fin[i + 1][0]
+            inside = (x > xa) & (x < xb)
+            if not np.any(~np.isfinite(h[inside])):  # one finite run, no NaN range between
+                out.append((xa, xb, bool(fa > 0)))
+    return out
+
+
+def _nan_edges(x, h, hfun, n_bisect: int) -> list[tuple[float, float]]:
+    """The last finite point before every range where ``h`` is NaN (bisection)."""
+    out = []
+    fin = np.isfinite(h)
+    for i in np.nonzero(fin[:-1] != fin[1:])[0]:
+        a, b = (x[i], x[i + 1]) if fin[i] else (x[i + 1], x[i])  # a finite, b NaN
+        for _ in range(n_bisect):
+            m = 0.5 * (a + b)
+            if np.isfinite(hfun(np.array([m]))[0]):
+                a = m
+            else:
+                b = m
+        out.append((float(a), float(hfun(np.array([a]))[0])))
+    return out
+
+
+def _dips(x, h, hfun, n_golden: int) -> list[tuple[float, float]]:
+    """Extrema of ``h`` between scan points where ``|h|`` dips toward zero without a sign
+    change (bounded golden-section search for the extremum)."""
+    out = []
+    for i in range(1, x.size - 1):
+        hm, h0, hp = h[i - 1], h[i], h[i + 1]
+        if not (np.isfinite(hm) and np.isfinite(hp) and np.isfinite(h0)):
+            continue
+        if not (hm * h0 > 0 and h0 * hp > 0 and abs(h0) <= abs(hm) and abs(h0) <= abs(hp)):
+            continue
+        if abs(h0) > max(abs(hm - h0), abs(hp - h0)):
+            continue  # the dip is shallow compared to its distance from zero
+        sgn = 1.0 if h0 > 0 else -1.0
+        res = minimize_scalar(lambda r, sg=sgn: sg * hfun(np.array([r]))[0],
+                              bounds=(x[i - 1], x[i + 1]), method="bounded",
+                              options={"xatol": 1e-7, "maxiter": n_golden})
+        out.append((float(res.x), float(sgn * res.fun)))
+    return out
+
+
+def _choose(roots: list[RigidRoot]) -> RigidRoot:
+    """The stable root of lowest z_g (minimum potential energy); with no stable root, the
+    lowest root. A chosen root with a contact on a profile's end keeps ``at_end``."""
+    stable = [r for r in roots if r.stable]
+    return min(stable or roots, key=lambda r: r.z_g)
+
+
+def _same(a: float, b: float, grid: np.ndarray) -> bool:
+    """True when two roots are the same root (closer than one scan step)."""
+    return abs(a - b) < 0.5 * (grid[1] - grid[0])

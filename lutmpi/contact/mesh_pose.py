@@ -27,29 +27,30 @@ def rotation(yaw: float, roll: float) -> np.ndarray:
                      [0.0, sr + 0.0, cr]])
 
 
-def flange_factor(scene, s: float) -> float:
-    """k_c factor of §4.5 at wheel profile coordinate ``s`` (1 on the tread)."""
+def flange_factor(scene, name: str, s: float) -> float:
+    """k_c factor of §4.5 at profile coordinate ``s`` of wheel ``name`` (1 on the tread)."""
     st = scene.settings
     if not st.flange or s >= 0.0:  # the flange is on the s < 0 side of the tape circle
         return 1.0
-    samp = scene.locus.samp
-    r = float(np.interp(s, samp.s, samp.r))
-    return float(flange_kc_scale(r, st.flange_base_radius, st.flange_tip_radius, st.chi))
+    sd = scene.side(name)
+    r = sd.flange_radius(s)
+    return float(flange_kc_scale(r, sd.flange_base_radius, sd.flange_tip_radius, st.chi))
 
 
-def _rigid_angle(scene, c) -> float:
+def _rigid_angle(scene, name: str, c) -> float:
     """Contact angle of a rigid (locus) contact from the rail slope at its lateral position."""
-    u = float(np.clip(c.u, scene.rail.u_min, scene.rail.u_max))
-    return float(np.arctan(scene.rail.slope(u)))
+    rail = scene.side(name).rail
+    u = float(np.clip(c.u, rail.u_min, rail.u_max))
+    return float(np.arctan(rail.slope(u)))
 
 
 def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> dict[str, Window]:
     """The window of each wheel at the rigid pose, ``depth`` (m) deep."""
-    wm, rm = scene.wheel_mesh, scene.rail_mesh
     centre = np.array([0.0, rigid.y, rigid.z_g])
     R = rotation(rigid.yaw, rigid.roll)
     out = {}
     for name, side in SIDE_SIGN.items():
+        wm, rm = scene.side(name).wheel_mesh, scene.side(name).rail_mesh
         # the locus at the rigid pose, sampled every 0.1 mm, interpolated at the mesh slices
         # (window selection only: the interpolation error is a few nm of gap)
         loc = rigid.loci[name]
@@ -73,12 +74,13 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResu
     deadline = time.perf_counter() + eq.max_pose_time
     nit = 0
     f_min = min(
-        (flange_factor(scene, c.s) for cs in rigid.contacts.values() for c in cs), default=1.0
+        (flange_factor(scene, name, c.s) for name, cs in rigid.contacts.items() for c in cs),
+        default=1.0,
     )
     # window depth: the margin plus twice the vertical approach of the softest contact at the
     # first k_c (normal approach W / (k f) over cos of the steepest contact angle)
-    n_z = min((abs(np.cos(_rigid_angle(scene, c))) for cs in rigid.contacts.values() for c in cs),
-              default=1.0)
+    n_z = min((abs(np.cos(_rigid_angle(scene, name, c)))
+               for name, cs in rigid.contacts.items() for c in cs), default=1.0)
     depth = scene.settings.window_gap + 2.0 * eq.load / (eq.kc0 * f_min * max(n_z, 0.2))
     for _ in range(3):
         wins = windows(scene, rigid, method, depth, full or not scene.settings.window)
@@ -88,7 +90,7 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResu
             rigid.yaw,
             np.array([rigid.z_g, rigid.roll]),
             eq,
-            lever=scene.wheel.d,
+            lever=scene.lever,
             fmin=f_min,
             rate=method.indentation_rate,
             nz_min=n_z,
@@ -103,8 +105,8 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResu
         # window had a rigid gap above ``depth``, so none of them can be in contact unless a
         # wheel moved that far
         dz, dr = out.q[0] - rigid.z_g, out.q[1] - rigid.roll
-        moved = max(abs(dz + sd * scene.wheel.d * dr) for sd in SIDE_SIGN.values()) \
-            + 0.1 * abs(dr)
+        moved = max(abs(dz + sd * scene.side(name).wheel.d * dr)
+                    for name, sd in SIDE_SIGN.items()) + 0.1 * abs(dr)
         if full or not scene.settings.window or moved < depth:
             break
         depth *= 4.0  # the pose left the window's depth: widen it and solve again
@@ -114,7 +116,6 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResu
 
 
 def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
-    wm, rm = scene.wheel_mesh, scene.rail_mesh
     mc = scene.settings.max_contacts
     rate = method.indentation_rate
 
@@ -123,13 +124,14 @@ def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
         R = rotation(rigid.yaw, q[1])
         out = {}
         for name, win in wins.items():
+            wm, rm = scene.side(name).wheel_mesh, scene.side(name).rail_mesh
             cs = method.contacts(win, wm, rm, centre, R, mc)
             out[name] = [
                 ContactForce(
                     point=c.wheel_point,
                     normal=-c.n_wheel,
                     indentation=c.indentation,
-                    factor=flange_factor(scene, c.s),
+                    factor=flange_factor(scene, name, c.s),
                     data=c,
                     nodes=c.n_wheel_nodes,
                     rate=rate,

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import time
 
+from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.methods import METHOD_NAMES, get_method
-from lutmpi.equilibrium.result import NO_CONTACT, STATUS, PoseResult
+from lutmpi.equilibrium.result import NO_CONTACT, PROFILE_END, STATUS, PoseResult
 
 __all__ = ["METHOD_NAMES", "solve_pose"]
 
@@ -43,5 +44,16 @@ def solve_pose(
         )
     else:
         res = m.solve(scene, rigid, full_mesh)
+    res.n_roots = rigid.n_roots
+    if rigid.success and rigid.at_end:
+        # the data do not reach the contact: the numbers are kept, the status says why
+        res.success, res.status = False, PROFILE_END
+        res.message = f"{STATUS[PROFILE_END]} ({_end_text(rigid)})"
     res.time = time.process_time() - t0
     return res
+
+
+def _end_text(rigid: RigidSolution) -> str:
+    ends = [f"{name} wheel s = {c.s * 1e3:.2f} mm" for name, cs in rigid.contacts.items()
+            for c in cs if c.at_end]
+    return "contact at the end of the data: " + ", ".join(ends)

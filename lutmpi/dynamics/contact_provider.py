@@ -4,7 +4,9 @@ A provider answers one question: for an imposed lateral shift ``y`` (m) and yaw 
 does the wheelset sit (``z_g``, roll) and where are its contacts (points, normals, rolling radii,
 contact angles, curvatures, at most two per wheel)? The dynamics never knows which source answered.
 
-* :class:`TableProvider` -- bilinear interpolation in a lookup table (the paper's off-line contact).
+* :class:`TableProvider` -- the table's compiled, jump-aware lookup (the paper's off-line
+  contact; :mod:`lutmpi.table.interp`): it never blends across a contact jump, and a pose outside
+  the table or on a failed point is reported in :attr:`ContactGeometry.status`, never clipped.
 * :class:`OnlineProvider` -- a full pose solve at every call (the paper's "on-line" contact).
 * :class:`ConedWheelProvider` -- analytic coned wheels on knife-edge rails (Klingel's textbook
   case, and the oracle for the dynamics tests).
@@ -21,19 +23,24 @@ moment.
 
 from __future__ import annotations
 
-import bisect
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Protocol
 
+import numba
 import numpy as np
 
 from lutmpi.equilibrium.result import SIDES
+from lutmpi.table.schema import FIELDS, D
 
-# the table/pose-record names the dynamics reads (see lutmpi.table.schema)
-RECORD_NAMES = ("z_g", "roll", "x_g", "wheel_point", "normal", "indentation", "rolling_radius",
-                "contact_angle", "curv_wheel_rolling", "curv_wheel_transverse",
-                "curv_rail_transverse", "force")
+#: :attr:`ContactGeometry.status`: the pose is inside the table and converged
+GEOMETRY_OK = 0
+#: the pose lies outside the table (the geometry is the one at the nearest edge pose)
+OUT_OF_TABLE = 1
+#: the pose lies on a point whose solve failed (the geometry is the last good one)
+FAILED_POINT = 2
+GEOMETRY_STATUS = {GEOMETRY_OK: "ok", OUT_OF_TABLE: "outside the table",
+                   FAILED_POINT: "on a failed table point"}
 
 
 @dataclass(frozen=True)
@@ -62,6 +69,10 @@ class ContactGeometry:
         indentation); only the ratio within a wheel is used (the split of a double contact).
     active : ndarray of bool, shape (2, 2)
         Which contacts exist.
+    status : int
+        :data:`GEOMETRY_OK`, :data:`OUT_OF_TABLE` or :data:`FAILED_POINT` (table providers).
+    piece : int
+        Which side of the table's jumps answered (the number of jumps below y; 0 without jumps).
     """
 
     y: float
@@ -82,6 +93,8 @@ class ContactGeometry:
     curv_rail_transverse: np.ndarray
     indentation: np.ndarray
     active: np.ndarray
+    status: int = GEOMETRY_OK
+    piece: int = 0
 
     @property
     def n_contacts(self) -> np.ndarray:
@@ -100,7 +113,15 @@ class ContactGeometry:
             curv_wheel_rolling=self.curv_wheel_rolling[::-1],
             curv_wheel_transverse=self.curv_wheel_transverse[::-1],
             curv_rail_transverse=self.curv_rail_transverse[::-1],
-            indentation=self.indentation[::-1], active=self.active[::-1])
+            indentation=self.indentation[::-1], active=self.active[::-1], status=self.status,
+            piece=self.piece)
+
+
+#: the stored quantities the dynamics reads: the float schema fields that are
+#: :class:`ContactGeometry` attributes, plus ``force`` (the split of a double contact's load);
+#: derived from :data:`lutmpi.table.schema.FIELDS`, the only list of names
+RECORD_NAMES = tuple(f.name for f in FIELDS if f.dtype.startswith("f") and (
+    f.name in ContactGeometry.__dataclass_fields__ or f.name == D.force))
 
 
 class ContactProvider(Protocol):
@@ -123,23 +144,23 @@ def geometry_from_records(y: float, yaw: float, rec: dict[str, np.ndarray], h_y:
     y, yaw : float
         The pose, m and rad.
     rec : dict of ndarray
-        :data:`RECORD_NAMES` with a leading axis of length 3: the poses ``(y, yaw)``,
-        ``(y + h_y, yaw)`` and ``(y, yaw + h_yaw)``.
+        :data:`RECORD_NAMES` (those present) with a leading axis of length 3: the poses
+        ``(y, yaw)``, ``(y + h_y, yaw)`` and ``(y, yaw + h_yaw)``.
     h_y, h_yaw : float
         The steps, m and rad (may be negative).
     """
-    z, roll = np.asarray(rec["z_g"], float), np.asarray(rec["roll"], float)
-    wp = np.asarray(rec["wheel_point"], float)[0]
-    nrm = np.asarray(rec["normal"], float)[0]
-    rr = np.asarray(rec["rolling_radius"], float)[0]
-    ind = np.asarray(rec["indentation"], float)[0]
+    z, roll = np.asarray(rec[D.z_g], float), np.asarray(rec[D.roll], float)
+    wp = np.asarray(rec[D.wheel_point], float)[0]
+    nrm = np.asarray(rec[D.normal], float)[0]
+    rr = np.asarray(rec[D.rolling_radius], float)[0]
+    ind = np.asarray(rec[D.indentation], float)[0]
     active = (np.isfinite(wp).all(axis=-1) & np.isfinite(nrm).all(axis=-1) & np.isfinite(rr)
               & np.isfinite(ind))
 
     def clean(a: np.ndarray, fill: float = 0.0) -> np.ndarray:
         return np.where(np.isfinite(a), a, fill)
 
-    x_g = float(rec["x_g"][0]) if "x_g" in rec and np.isfinite(rec["x_g"][0]) else 0.0
+    x_g = float(rec[D.x_g][0]) if D.x_g in rec and np.isfinite(rec[D.x_g][0]) else 0.0
     n = clean(nrm)
     norm = np.linalg.norm(n, axis=-1, keepdims=True)
     n = np.where(norm > 0, n / np.where(norm > 0, norm, 1.0), 0.0)  # re-normalise after interp
@@ -148,10 +169,10 @@ def geometry_from_records(y: float, yaw: float, rec: dict[str, np.ndarray], h_y:
         dz_dy=float((z[1] - z[0]) / h_y), dz_dyaw=float((z[2] - z[0]) / h_yaw),
         droll_dy=float((roll[1] - roll[0]) / h_y), droll_dyaw=float((roll[2] - roll[0]) / h_yaw),
         wheel_point=clean(wp), normal=n, rolling_radius=clean(rr),
-        contact_angle=clean(np.asarray(rec["contact_angle"], float)[0]),
-        curv_wheel_rolling=clean(np.asarray(rec["curv_wheel_rolling"], float)[0]),
-        curv_wheel_transverse=clean(np.asarray(rec["curv_wheel_transverse"], float)[0]),
-        curv_rail_transverse=clean(np.asarray(rec["curv_rail_transverse"], float)[0]),
+        contact_angle=clean(np.asarray(rec[D.contact_angle], float)[0]),
+        curv_wheel_rolling=clean(np.asarray(rec[D.curv_wheel_rolling], float)[0]),
+        curv_wheel_transverse=clean(np.asarray(rec[D.curv_wheel_transverse], float)[0]),
+        curv_rail_transverse=clean(np.asarray(rec[D.curv_rail_transverse], float)[0]),
         indentation=_split_weights(rec, active), active=active)
 
 
@@ -159,7 +180,7 @@ def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray
     """Weights that split a wheel's load between its contacts: the pose solve's normal forces
     (``force``) when stored, else the indentations (both are proportional to the contact force in
     the solve; a rigid ``reference`` solve has zero indentation but its forces)."""
-    for name in ("force", "indentation"):
+    for name in (D.force, D.indentation):
         if name in rec:
             w = np.asarray(rec[name], float)[0]
             w = np.where(active & np.isfinite(w), np.maximum(w, 0.0), 0.0)
@@ -168,168 +189,181 @@ def _split_weights(rec: dict[str, np.ndarray], active: np.ndarray) -> np.ndarray
     return active.astype(float)
 
 
-def wheel_flange_angle(cfg: Any) -> float:
-    """Steepest angle of the wheel profile's flange flank (rad), between the flange tip and the
-    tape circle, for the wheel of config ``cfg``."""
-    from lutmpi.scene import load_scene_profiles
+#: per-contact fields the compiled post-processing reads, in its index order
+_PC_FIELDS = (D.rolling_radius, D.contact_angle, D.curv_wheel_rolling, D.curv_wheel_transverse,
+              D.curv_rail_transverse, D.force, D.indentation)
 
-    wheel, _ = load_scene_profiles(cfg)
-    s = np.linspace(wheel.y_min, 0.0, 4000)
-    tip = s[int(np.argmax(wheel.z_at(s)))]
-    flank = np.linspace(tip, 0.0, 4000)
-    return float(np.arctan(np.max(-wheel.slope(flank))))
+
+@numba.njit(cache=True)
+def _geometry_arrays(v, wp_i, nrm_i, pc_i):  # noqa: ANN001, ANN202
+    """From a looked-up value vector ``v``: contact points, unit normals, the per-contact fields
+    of :data:`_PC_FIELDS` (NaN -> 0), ``active`` and the load-split weights (as
+    :func:`_split_weights`: forces, else indentations, else 1 per active contact). Index arrays:
+    ``wp_i``, ``nrm_i`` (2, 2, 3), ``pc_i`` (7, 2, 2); -1 where a field is not stored."""
+    wp = np.zeros((2, 2, 3))
+    nrm = np.zeros((2, 2, 3))
+    pc = np.zeros((7, 2, 2))
+    active = np.zeros((2, 2), np.bool_)
+    for a in range(2):
+        for b in range(2):
+            ok = pc_i[0, a, b] >= 0 and np.isfinite(v[pc_i[0, a, b]])
+            norm = 0.0
+            for c in range(3):
+                x = v[wp_i[a, b, c]] if wp_i[a, b, c] >= 0 else np.nan
+                n = v[nrm_i[a, b, c]] if nrm_i[a, b, c] >= 0 else np.nan
+                ok = ok and np.isfinite(x) and np.isfinite(n)
+                wp[a, b, c] = x
+                nrm[a, b, c] = n
+                norm += n * n
+            active[a, b] = ok
+            for c in range(3):
+                if ok and norm > 0:
+                    nrm[a, b, c] /= np.sqrt(norm)
+                else:
+                    nrm[a, b, c] = 0.0
+                if not np.isfinite(wp[a, b, c]):
+                    wp[a, b, c] = 0.0
+            for f in range(7):
+                x = v[pc_i[f, a, b]] if pc_i[f, a, b] >= 0 else np.nan
+                pc[f, a, b] = x if np.isfinite(x) else 0.0
+    weights = np.zeros((2, 2))
+    for f in (5, 6):                                  # force, then indentation
+        if pc_i[f, 0, 0] < 0:
+            continue
+        good = True
+        for a in range(2):
+            total = 0.0
+            has = False
+            for b in range(2):
+                weights[a, b] = max(pc[f, a, b], 0.0) if active[a, b] else 0.0
+                total += weights[a, b]
+                has = has or active[a, b]
+            if has and not total > 0:
+                good = False
+        if good:
+            return wp, nrm, pc, active, weights
+    for a in range(2):
+        for b in range(2):
+            weights[a, b] = 1.0 if active[a, b] else 0.0
+    return wp, nrm, pc, active, weights
 
 
 class TableProvider:
-    """Contact geometry by bilinear interpolation in a lookup table.
+    """Contact geometry from a table's compiled, jump-aware lookup.
 
-    The hot path is one small matrix product: every quantity the dynamics reads is packed at
-    construction into one ``(ny, nyaw, 2K)`` array -- the K values with NaN replaced by 0, then K
-    NaN indicators -- so an evaluation is: locate the cell (``bisect`` on Python lists), four
-    bilinear weights, ``w @ corners`` for all 2K columns at once, and the z_g/roll slopes as the
-    cell's analytic derivatives (exactly what a difference step inside the cell gives). A value
-    whose stencil gives a NaN node a non-zero weight is NaN, as in :meth:`lutmpi.table.Table.interp`
-    (the NaN indicator interpolates to > 0 exactly then).
+    One call of :func:`lutmpi.table.interp.lookup_point` gives every stored quantity at the pose
+    with its y and yaw slopes (the z_g / roll slopes the dynamics needs are the interpolant's
+    analytic derivatives), which side of the jumps answered, and whether the pose is inside the
+    table. The flange angle (Nadal's limit) is the table's ``wheel_flange_angle`` attribute,
+    written at build time from the wheel profile.
 
     Parameters
     ----------
-    table : object
-        An open table with ``get(name, method)``, axes ``y``, ``yaw`` (increasing, at least two
-        nodes each) and ``quantities`` -- :class:`lutmpi.table.Table`.
+    table : lutmpi.table.Table
     method : str or None
         Contact method group of the table (``None``: the table's default).
+
+    Attributes
+    ----------
+    bounds : tuple of float
+        ``(y_min, y_max, yaw_min, yaw_max)`` of the table, m and rad.
     """
 
     def __init__(self, table: Any, method: str | None = None) -> None:
+        from lutmpi.table.interp import lookup_point
+
         self.table = table
-        self.method = method
-        self.y_axis = np.asarray(table.y, float)
-        self.yaw_axis = np.asarray(table.yaw, float)
-        if self.y_axis.size < 2 or self.yaw_axis.size < 2:
-            raise ValueError(f"TableProvider needs at least 2 x 2 grid nodes, got "
-                             f"{self.y_axis.size} x {self.yaw_axis.size}")
-        self._ylist, self._wlist = self.y_axis.tolist(), self.yaw_axis.tolist()
-        stored = getattr(table, "quantities", None)
-        self.names = [k for k in RECORD_NAMES if stored is None or k in stored]
-        self.flange_angle = self._flange_angle()
+        self.method = method or table.methods[0]
+        ip = table.interpolator(self.method, quantities=RECORD_NAMES)
+        self._args = ip.arrays
+        self._lookup = lookup_point
+        self.bounds = (float(ip.y_axis[0]), float(ip.y_axis[-1]), float(ip.yaw_axis[0]),
+                       float(ip.yaw_axis[-1]))
+        self.names = [n for n in RECORD_NAMES if n in ip.layout.slots]
+        self._slot = {n: ip.layout.slots[n] for n in self.names}
+        self._iz, self._ir = self._slot[D.z_g][0], self._slot[D.roll][0]
+        self._ix = self._slot[D.x_g][0] if D.x_g in self._slot else -1
+        self._wp_i = self._index(D.wheel_point, (2, 2, 3))
+        self._nrm_i = self._index(D.normal, (2, 2, 3))
+        self._pc_i = np.stack([self._index(n, (2, 2)) for n in _PC_FIELDS])
+        angles = table.get(D.contact_angle, self.method) if D.contact_angle in self.names else 0.0
+        self.flange_angle = max(float(np.nanmax(angles, initial=0.0)),
+                                float(table.attribute("wheel_flange_angle")))
+        q = ip.kv.shape[2]
+        self._v, self._dy, self._dw = np.empty(q), np.empty(q), np.empty(q)
+        self._tv, self._td = np.empty((4, q)), np.empty((4, q))
+        self._last_good: ContactGeometry | None = None
         self.calls = 0
-        self._data, self._fields, self._f = self._pack()
-        self._k = self._data.shape[2] // 2
 
-    def _pack(self) -> tuple[np.ndarray, dict[str, slice], int]:
-        """``(ny, nyaw, 2K)``: cleaned values then NaN indicators, K = 4 F + 3.
+    def _index(self, name: str, shape: tuple[int, ...]) -> np.ndarray:
+        """Positions of a field's values in the looked-up vector (-1: not stored)."""
+        if name not in self._slot:
+            return np.full(shape, -1, np.int64)
+        off, suffix = self._slot[name]
+        return (off + np.arange(int(np.prod(suffix, dtype=int)))).reshape(shape).astype(np.int64)
 
-        The first ``4 F`` columns are the per-contact fields as a ``(2, 2, F)`` block (side,
-        slot, field: wheel point xyz, normal xyz, then the scalar fields, then an "inactive"
-        indicator, 1 where a node lacks any of the fields that define a contact); then z_g, roll,
-        x_g. Returns the array, ``name -> slice of the field axis`` and F.
-        """
-        get = lambda name: np.asarray(self.table.get(name, self.method), float)  # noqa: E731
-        ny, na = self.y_axis.size, self.yaw_axis.size
-        per = [n for n in self.names if n not in _SCALARS]
-        blocks, fields, f = [], {}, 0
-        for name in per:
-            arr = get(name).reshape(ny, na, 2, 2, -1)
-            fields[name] = slice(f, f + arr.shape[-1])
-            blocks.append(arr)
-            f += arr.shape[-1]
-        pc = np.concatenate(blocks, axis=-1)
-        lacking = np.zeros((ny, na, 2, 2), bool)
-        for name in _DEFINING:
-            lacking |= ~np.isfinite(pc[..., fields[name]]).all(axis=-1)
-        fields["_inactive"] = slice(f, f + 1)
-        pc = np.concatenate([pc, lacking[..., None] * 1.0], axis=-1)
-        f += 1
-        scal = np.stack([get(n) if n in self.names else np.zeros((ny, na)) for n in _SCALARS], -1)
-        v = np.concatenate([pc.reshape(ny, na, -1), scal], axis=2)
-        nan = ~np.isfinite(v)
-        data = np.concatenate([np.where(nan, 0.0, v), nan * 1.0], axis=2)
-        return np.ascontiguousarray(data), fields, f
+    def status(self, y: float, yaw: float) -> int:
+        """:data:`GEOMETRY_OK`, :data:`OUT_OF_TABLE` or :data:`FAILED_POINT` at a pose (the
+        lookup alone, no geometry)."""
+        if self.lookup(y, yaw)[0] & 1:
+            return OUT_OF_TABLE
+        return GEOMETRY_OK if math.isfinite(self._v[self._iz]) else FAILED_POINT
 
-    def _flange_angle(self) -> float:
-        """The flange angle for Nadal's limit: the steepest flank of the table's wheel profile
-        (from the stored config), not the largest contact angle the table happens to reach."""
-        table_max = (float(np.nanmax(self.table.get("contact_angle", self.method)))
-                     if "contact_angle" in self.names else 0.0)
-        try:
-            import tomllib
+    def lookup(self, y: float, yaw: float) -> tuple[int, int, float]:
+        """The compiled lookup alone: fills the value / slope buffers, returns ``(flags, piece,
+        jump_distance)`` (:meth:`lutmpi.table.interp.Interpolator.evaluate`)."""
+        return self._lookup(self._args, float(y), float(yaw), self._v, self._dy, self._dw,
+                            self._tv, self._td)
 
-            from lutmpi.config import config_from_dict
+    def inside(self, y: float, yaw: float) -> float:
+        """Signed margin to the table's edge (> 0 inside), m-equivalent (yaw scaled by the
+        table's y/yaw extent ratio): the event function of leaving the table."""
+        y0, y1, a0, a1 = self.bounds
+        scale = (y1 - y0) / (a1 - a0) if a1 > a0 else 1.0
+        return min(y - y0, y1 - y, (yaw - a0) * scale, (a1 - yaw) * scale)
 
-            cfg = config_from_dict(tomllib.loads(self.table.config_toml))
-            return max(table_max, wheel_flange_angle(cfg))
-        except Exception:  # noqa: BLE001 - a table whose profile file moved: S1002's 70 deg
-            return max(table_max, math.radians(70.0))
-
-    def _cell(self, y: float, yaw: float) -> tuple[int, int, float, float, float, float]:
-        ya, wa = self._ylist, self._wlist
-        i = min(bisect.bisect_right(ya, y) - 1, len(ya) - 2)
-        j = min(bisect.bisect_right(wa, yaw) - 1, len(wa) - 2)
-        dy, dw = ya[i + 1] - ya[i], wa[j + 1] - wa[j]
-        return i, j, (y - ya[i]) / dy, (yaw - wa[j]) / dw, dy, dw
-
-    def interp_vector(self, y: float, yaw: float) -> np.ndarray:
-        """One bilinear step for everything at a pose inside the grid: rows (value, d/dy per m,
-        d/dyaw per rad) of the packed columns (values, then NaN indicators), shape ``(3, 2K)``."""
-        i, j, u, v, dy, dw = self._cell(y, yaw)
-        c = self._data[i:i + 2, j:j + 2].reshape(4, -1)     # corners 00, 01, 10, 11
-        w = np.array([[(1 - u) * (1 - v), (1 - u) * v, u * (1 - v), u * v],
-                      [-(1 - v) / dy, -v / dy, (1 - v) / dy, v / dy],
-                      [-(1 - u) / dw, (1 - u) / dw, -u / dw, u / dw]])
-        return w @ c
+    def piece(self, y: float, yaw: float) -> int:
+        """Which side of the jumps a pose is on (-1 outside the table)."""
+        return int(self.lookup(y, yaw)[1])
 
     def evaluate(self, y: float, yaw: float) -> ContactGeometry:
-        """Interpolate the table at ``(y, yaw)`` (clipped to the grid)."""
+        """Geometry at ``(y, yaw)``. Outside the table: the geometry at the nearest edge pose
+        with ``status = OUT_OF_TABLE``; on a failed point: the last good geometry with
+        ``status = FAILED_POINT`` (the integrator's trial steps stay finite; the simulation
+        stops at the crossing, located as an event)."""
         self.calls += 1
-        ya, wa = self._ylist, self._wlist
-        y = min(max(float(y), ya[0]), ya[-1])
-        yaw = min(max(float(yaw), wa[0]), wa[-1])
-        out = self.interp_vector(y, yaw)
-        k, nf = self._k, 4 * self._f
-        flag = out[0, k:]
-        clean = np.where(flag > 0.0, 0.0, out[0, :k])
-        pc = clean[:nf].reshape(2, 2, self._f)
-        fs = self._fields
-        active = pc[..., fs["_inactive"].start] <= 0.0
-        n = pc[..., fs["normal"]]
-        norm = np.sqrt(np.einsum("ijk,ijk->ij", n, n))[..., None]
-        n = np.where(norm > 0, n / np.where(norm > 0, norm, 1.0), 0.0)
-        z_g, roll, x_g = out[0, nf:nf + 3].tolist()
-        zf, rf = flag[nf:nf + 2].tolist()
-        dz_dy, droll_dy = out[1, nf:nf + 2].tolist()
-        dz_dyaw, droll_dyaw = out[2, nf:nf + 2].tolist()
+        y, yaw = float(y), float(yaw)
+        flags, piece, _ = self.lookup(y, yaw)
+        status = GEOMETRY_OK
+        if flags & 1:
+            y0, y1, a0, a1 = self.bounds
+            flags, piece, _ = self.lookup(min(max(y, y0), y1), min(max(yaw, a0), a1))
+            status = OUT_OF_TABLE
+        v = self._v
+        z_g = float(v[self._slot[D.z_g][0]])
+        if not math.isfinite(z_g):
+            if self._last_good is None:        # NaN geometry, no contact: data, not a number
+                return self._geometry(y, yaw, FAILED_POINT, int(piece))
+            return replace(self._last_good, y=y, yaw=yaw, status=FAILED_POINT, piece=piece)
+        geom = self._geometry(y, yaw, status, int(piece))
+        if status == GEOMETRY_OK:
+            self._last_good = geom
+        return geom
+
+    def _geometry(self, y: float, yaw: float, status: int, piece: int) -> ContactGeometry:
+        v, dy, dw = self._v, self._dy, self._dw
+        wp, nrm, pc, active, weights = _geometry_arrays(v, self._wp_i, self._nrm_i, self._pc_i)
+        iz, ir, ix = self._iz, self._ir, self._ix
+        x_g = float(v[ix]) if ix >= 0 else 0.0
+        dz_dyaw, droll_dyaw = float(dw[iz]), float(dw[ir])
         return ContactGeometry(
-            y=y, yaw=yaw, z_g=z_g if zf <= 0 else math.nan, roll=roll if rf <= 0 else math.nan,
-            x_g=x_g if flag[nf + 2] <= 0 else 0.0, dz_dy=dz_dy, dz_dyaw=dz_dyaw,
-            droll_dy=droll_dy, droll_dyaw=droll_dyaw, wheel_point=pc[..., fs["wheel_point"]],
-            normal=n, rolling_radius=pc[..., fs["rolling_radius"].start],
-            contact_angle=self._field(pc, "contact_angle"),
-            curv_wheel_rolling=self._field(pc, "curv_wheel_rolling"),
-            curv_wheel_transverse=self._field(pc, "curv_wheel_transverse"),
-            curv_rail_transverse=self._field(pc, "curv_rail_transverse"),
-            indentation=self._weights(pc, active), active=active)
-
-    def _field(self, pc: np.ndarray, name: str) -> np.ndarray:
-        sl = self._fields.get(name)
-        return pc[..., sl.start] if sl is not None else np.zeros((2, 2))
-
-    def _weights(self, pc: np.ndarray, active: np.ndarray) -> np.ndarray:
-        """:func:`_split_weights` on the packed block (force, else indentation, else 1); the
-        NaN entries are already 0 in ``pc``."""
-        has = active.any(axis=1).tolist()
-        for name in ("force", "indentation"):
-            if name in self._fields:
-                w = np.where(active, np.maximum(pc[..., self._fields[name].start], 0.0), 0.0)
-                s = w.sum(axis=1).tolist()
-                if all(s[i] > 0 for i in (0, 1) if has[i]):
-                    return w
-        return active.astype(float)
-
-
-#: scalar (per pose) table quantities, packed after the per-contact block
-_SCALARS = ("z_g", "roll", "x_g")
-#: the per-contact fields whose absence means "no contact" (as in :func:`geometry_from_records`)
-_DEFINING = ("wheel_point", "normal", "rolling_radius", "indentation")
+            y=y, yaw=yaw, z_g=float(v[iz]), roll=float(v[ir]),
+            x_g=x_g if math.isfinite(x_g) else 0.0, dz_dy=float(dy[iz]),
+            dz_dyaw=dz_dyaw if math.isfinite(dz_dyaw) else 0.0, droll_dy=float(dy[ir]),
+            droll_dyaw=droll_dyaw if math.isfinite(droll_dyaw) else 0.0, wheel_point=wp,
+            normal=nrm, rolling_radius=pc[0], contact_angle=pc[1], curv_wheel_rolling=pc[2],
+            curv_wheel_transverse=pc[3], curv_rail_transverse=pc[4], indentation=weights,
+            active=active, status=status, piece=piece)
 
 
 class OnlineProvider:
@@ -349,7 +383,7 @@ class OnlineProvider:
     """
 
     def __init__(self, scene: Any, method: str = "reference", h_y: float = 1e-4,
-                 h_yaw: float = 1e-4, flange_angle: float = math.radians(70.0)) -> None:
+                 h_yaw: float = 1e-4, flange_angle: float | None = None) -> None:
         from lutmpi.contact.solve import solve_pose
         from lutmpi.table.compute import pose_to_record
         from lutmpi.table.schema import FIELDS
@@ -357,6 +391,10 @@ class OnlineProvider:
         self._fields = FIELDS
         self.scene, self.method = scene, method
         self.h_y, self.h_yaw = h_y, h_yaw
+        if flange_angle is None:
+            from lutmpi.table.jumps import wheel_flange_angle
+
+            flange_angle = wheel_flange_angle(scene.wheel.profile)
         self.flange_angle = flange_angle
         self._solve, self._record = solve_pose, pose_to_record
         self.calls = 0
@@ -436,13 +474,13 @@ class ConedWheelProvider:
             return out
 
         cos_d = math.cos(math.atan(lam)) if self.gravitational else 1.0
-        return {"z_g": np.float64(r0), "roll": np.float64(roll), "x_g": np.float64(0.0),
-                "wheel_point": wp, "normal": nrm, "indentation": slot0(np.ones(2)),
-                "rolling_radius": slot0(r), "contact_angle": slot0(gamma),
-                "force": slot0(np.ones(2)),
-                "curv_wheel_rolling": slot0(cos_d / r),
-                "curv_wheel_transverse": slot0(np.zeros(2)),
-                "curv_rail_transverse": slot0(np.full(2, 1.0 / self.rail_crown_radius))}
+        return {D.z_g: np.float64(r0), D.roll: np.float64(roll), D.x_g: np.float64(0.0),
+                D.wheel_point: wp, D.normal: nrm, D.indentation: slot0(np.ones(2)),
+                D.rolling_radius: slot0(r), D.contact_angle: slot0(gamma),
+                D.force: slot0(np.ones(2)),
+                D.curv_wheel_rolling: slot0(cos_d / r),
+                D.curv_wheel_transverse: slot0(np.zeros(2)),
+                D.curv_rail_transverse: slot0(np.full(2, 1.0 / self.rail_crown_radius))}
 
     def evaluate(self, y: float, yaw: float) -> ContactGeometry:
         """Closed-form geometry at ``(y, yaw)``."""
@@ -454,4 +492,5 @@ class ConedWheelProvider:
 
 
 __all__ = ["ContactGeometry", "ContactProvider", "TableProvider", "OnlineProvider",
-           "ConedWheelProvider", "geometry_from_records", "RECORD_NAMES", "SIDES"]
+           "ConedWheelProvider", "geometry_from_records", "RECORD_NAMES", "SIDES", "GEOMETRY_OK",
+           "OUT_OF_TABLE", "FAILED_POINT", "GEOMETRY_STATUS"]

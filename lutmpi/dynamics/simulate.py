@@ -8,6 +8,15 @@ and BDF work too, an explicit method (RK45) needs ~1 ms steps.
 Events (non-terminal, times recorded): ``flange`` -- the largest contact angle crosses
 ``flange_threshold``; ``double_contact`` -- a wheel gains a second contact; ``nadal`` -- a wheel's
 Y/Q crosses the Nadal limit ``(tan g - mu) / (1 + mu tan g)`` for the flange angle ``g``.
+
+On a table (a provider with ``piece`` and ``bounds``, :class:`TableProvider`), three more, terminal:
+
+* ``jump`` -- the wheelset crosses a located contact jump (the table's answer changes side). The
+  crossing is located as a state event and the integration restarts there, so no step ever
+  spans a jump (the contact forces are discontinuous across it). Times recorded.
+* ``left_table`` -- the pose reaches the edge of the table: the run stops there with a non-zero
+  status and a message naming the time and the pose (a table is never extrapolated or clipped).
+* ``failed_point`` -- the pose reaches a table point whose solve did not converge: same.
 """
 
 from __future__ import annotations
@@ -21,7 +30,13 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from lutmpi.dynamics.contact_provider import ContactGeometry, ContactProvider
+from lutmpi.dynamics.contact_provider import (
+    FAILED_POINT,
+    GEOMETRY_OK,
+    GEOMETRY_STATUS,
+    ContactGeometry,
+    ContactProvider,
+)
 from lutmpi.dynamics.stability import Summary, classify  # noqa: F401 (the one rule)
 from lutmpi.dynamics.wheelset import (
     STATE_NAMES,
@@ -137,6 +152,11 @@ def _events(memo: _Memo, speed: float, params: WheelsetParams, threshold: float,
 EVENT_NAMES = ("flange", "double_contact", "nadal")
 
 
+#: :attr:`SimulationResult.status` values beyond solve_ivp's (0 done, -1 integration failed)
+LEFT_TABLE, ON_FAILED_POINT = 2, 3
+STOP_MESSAGES = {LEFT_TABLE: "left the table", ON_FAILED_POINT: "reached a failed table point"}
+
+
 def simulate(provider: ContactProvider, params: WheelsetParams, speed: float, duration: float,
              *, y0: float = 0.0, yaw0: float = 0.0, vy0: float = 0.1, vyaw0: float = 0.0,
              method: str = "LSODA", rtol: float = 1e-6, atol: np.ndarray | None = None,
@@ -163,12 +183,15 @@ def simulate(provider: ContactProvider, params: WheelsetParams, speed: float, du
     flange_threshold : float
         Contact angle marking flange contact, rad.
     events : bool
-        Track the flange / double-contact / Nadal events.
+        Track the flange / double-contact / Nadal events (the table's jump, edge and failed-point
+        events are always on).
 
     Returns
     -------
     SimulationResult
-        With ``success``/``status``/``message`` from solve_ivp (a failed run is data).
+        ``status`` 0 (done), -1 (solve_ivp failed), :data:`LEFT_TABLE` or
+        :data:`ON_FAILED_POINT` (stopped; ``message`` names the time and pose). A failed run is
+        data.
     """
     memo = _Memo(provider)
     calls0 = getattr(provider, "calls", 0)
@@ -182,25 +205,129 @@ def simulate(provider: ContactProvider, params: WheelsetParams, speed: float, du
 
     t_eval = np.arange(0.0, duration + 0.5 * dt_out, dt_out)
     t_eval = t_eval[t_eval <= duration]
-    ev = _events(memo, speed, params, flange_threshold, nadal) if events else None
+    monitors = _events(memo, speed, params, flange_threshold, nadal) if events else []
     x0 = np.array([y0, yaw0, vy0, vyaw0, 0.0])
     t0 = time.perf_counter()
-    sol = solve_ivp(rhs, (0.0, duration), x0, method=method, t_eval=t_eval, rtol=rtol,
-                    atol=atol, max_step=max_step, events=ev)
+    sol, stop, crossings = _integrate(rhs, provider, memo, duration, x0, t_eval, monitors,
+                                      dict(method=method, rtol=rtol, atol=atol,
+                                           max_step=max_step))
     wall = time.perf_counter() - t0
     res = _post(sol, memo, speed, params, wall, provider, calls0, nadal)
-    if ev is not None:
+    if stop is not None:
+        res.success, res.status, res.message = False, stop[0], stop[1]
+    if monitors:
         res.events = {name: np.asarray(tt) for name, tt in zip(EVENT_NAMES, sol.t_events,
                                                                  strict=True)}
-    res.summary = classify(res.t, res.y)
+    if hasattr(provider, "piece"):
+        res.events["jump"] = np.asarray(crossings, float)
+    res.summary = classify(res.t, res.y) if res.t.size else None
     log.info("%s", res.summary_line())
     return res
+
+
+class _Joined:
+    """The pieces of an integration restarted at events, joined (what _post reads)."""
+
+    def __init__(self, n_monitors: int) -> None:
+        self.t: list[np.ndarray] = []
+        self.y: list[np.ndarray] = []
+        self.t_events: list[list[float]] = [[] for _ in range(n_monitors)]
+        self.nfev = 0
+        self.success, self.status, self.message = True, 0, "The solver successfully reached " \
+                                                             "the end of the integration interval."
+
+    def add(self, sol: Any, n_monitors: int) -> None:
+        self.t.append(np.asarray(sol.t, float).ravel())
+        self.y.append(np.asarray(sol.y, float).reshape(len(sol.y) or 5, -1))
+        self.nfev += sol.nfev
+        for k in range(n_monitors):
+            self.t_events[k] += list(sol.t_events[k])
+        if sol.status == -1:
+            self.success, self.status, self.message = False, -1, sol.message
+
+    def done(self) -> _Joined:
+        self.t = np.concatenate(self.t) if self.t else np.empty(0)
+        self.y = np.concatenate(self.y, axis=1) if self.y else np.empty((5, 0))
+        return self
+
+
+def _table_events(provider: Any, piece: int) -> list[Any]:
+    """Terminal events of a table run: leaving the current side of the jumps (``piece``),
+    reaching the table's edge, reaching a failed point."""
+    def jump(t: float, x: np.ndarray) -> float:
+        return abs(provider.piece(x[0], x[1]) - piece) - 0.5
+
+    def edge(t: float, x: np.ndarray) -> float:
+        return provider.inside(x[0], x[1])
+
+    def failed(t: float, x: np.ndarray) -> float:
+        return -1.0 if provider.status(x[0], x[1]) == FAILED_POINT else 1.0
+
+    for fn, direction in ((jump, 1.0), (edge, -1.0), (failed, -1.0)):
+        fn.terminal, fn.direction = True, direction
+    return [jump, edge, failed]
+
+
+def _stop_message(code: int, t: float, x: np.ndarray, provider: Any) -> tuple[int, str]:
+    y0, y1, a0, a1 = getattr(provider, "bounds", (np.nan,) * 4)
+    return code, (f"{STOP_MESSAGES[code]} at t = {t:.5f} s, pose y = {x[0] * 1e3:.4f} mm, "
+                  f"yaw = {x[1]:.6f} rad (table: y in [{y0 * 1e3:.3f}, {y1 * 1e3:.3f}] mm, "
+                  f"yaw in [{a0:.4f}, {a1:.4f}] rad)")
+
+
+def _integrate(rhs: Any, provider: Any, memo: _Memo, duration: float, x0: np.ndarray,
+               t_eval: np.ndarray, monitors: list[Any], kw: dict[str, Any]
+               ) -> tuple[_Joined, tuple[int, str] | None, list[float]]:
+    """solve_ivp, restarted at every jump crossing; stopped at the table's edge or a failed
+    point."""
+    out = _Joined(len(monitors))
+    table = hasattr(provider, "piece")
+    t, x, crossings = 0.0, np.asarray(x0, float), []
+    while True:
+        if table:
+            status = provider.status(x[0], x[1])
+            if status != GEOMETRY_OK:
+                code = ON_FAILED_POINT if status == FAILED_POINT else LEFT_TABLE
+                out.t.append(np.array([t]))
+                out.y.append(np.asarray(x, float)[:, None])
+                return out.done(), _stop_message(code, t, x, provider), crossings
+        te = t_eval[(t_eval > t) | ((t_eval == t) & (t == 0.0))]
+        if t >= duration:
+            return out.done(), None, crossings
+        evs = monitors + (_table_events(provider, _piece_ahead(provider, x)) if table
+                          else [])
+        sol = solve_ivp(rhs, (t, duration), x, t_eval=te, events=evs or None, **kw)
+        out.add(sol, len(monitors))
+        if sol.status != 1:
+            return out.done(), None, crossings
+        fired = [k for k in range(len(monitors), len(evs)) if len(sol.t_events[k])]
+        k = fired[0]
+        t, x = float(sol.t_events[k][-1]), np.asarray(sol.y_events[k][-1], float)
+        if k == len(monitors):                       # a jump: restart on its far side
+            stalled = bool(crossings) and t <= crossings[-1] + 1e-12
+            crossings.append(t)
+            if stalled:                  # no progress between two crossings: one step over it
+                sol = solve_ivp(rhs, (t, min(t + kw["max_step"] * 1e-3, duration)), x, **kw)
+                t, x = float(sol.t[-1]), sol.y[:, -1].copy()
+            continue
+        code = LEFT_TABLE if k == len(monitors) + 1 else ON_FAILED_POINT
+        out.t.append(np.array([t]))                  # the run ends at the located stop
+        out.y.append(x[:, None])
+        return out.done(), _stop_message(code, t, x, provider), crossings
+
+
+def _piece_ahead(provider: Any, x: np.ndarray) -> int:
+    """The side of the jumps the state is heading into: at a located crossing the pose is within
+    round-off of the jump, so look a nanometre ahead along the lateral velocity."""
+    step = math.copysign(1e-9, x[2]) if x[2] != 0.0 else 0.0
+    piece = provider.piece(x[0] + step, x[1])
+    return piece if piece >= 0 else provider.piece(x[0], x[1])
 
 
 def _post(sol: Any, memo: _Memo, speed: float, params: WheelsetParams, wall: float,
           provider: ContactProvider, calls0: int, nadal: float) -> SimulationResult:
     """Forces and geometry at the output times (one evaluation per sample)."""
-    t, X = sol.t, sol.y.T
+    t, X = np.asarray(sol.t), np.asarray(sol.y).T
     n = t.size
     roll, zg, lift = np.zeros(n), np.zeros(n), np.zeros(n, bool)
     nf, ca = np.zeros((n, 2, 2)), np.full((n, 2, 2), np.nan)
@@ -224,4 +351,4 @@ def _post(sol: Any, memo: _Memo, speed: float, params: WheelsetParams, wall: flo
 
 
 __all__ = ["simulate", "SimulationResult", "Summary", "classify", "nadal_limit", "STATE_NAMES",
-           "EVENT_NAMES"]
+           "EVENT_NAMES", "LEFT_TABLE", "ON_FAILED_POINT", "GEOMETRY_STATUS"]

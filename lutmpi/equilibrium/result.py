@@ -4,42 +4,25 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numpy as np
+# declared next to the code that fills it (one module per stored per-contact quantity); re-exported
+from lutmpi.contact.records import ContactResult  # noqa: F401
 
 # status code -> text; stored as an attribute of every table's ``status`` dataset
 STATUS = {
     0: "converged",
     1: "max_iterations: the iteration budget (equilibrium.max_iterations) ran out",
-    2: "no_contact: a wheel found no contact within the mesh window",
+    2: "no_contact: no rigid two-wheel contact exists, or a wheel found none in its mesh window",
     3: "kc_limit: k_c reached its upper limit before the indentation was allowed",
     4: "equilibrium_failed: the equilibrium solve did not converge at some k_c",
     5: "window_too_small: the intersecting volume touched the mesh window edge",
     6: "not_computed",
     7: "error: an exception was raised while solving this point",
     8: "time_budget: the pose's wall-time budget (equilibrium.max_pose_time_s) ran out",
+    9: "profile_end: a contact lies on or beyond the end of a profile's data",
 }
 (CONVERGED, MAX_ITER, NO_CONTACT, KC_LIMIT, EQ_FAILED, WINDOW, NOT_COMPUTED, ERROR,
- TIME_BUDGET) = range(9)
+ TIME_BUDGET, PROFILE_END) = range(10)
 SIDES = ("left", "right")
-
-
-@dataclass
-class ContactResult:
-    """One contact on one wheel (SI, track frame)."""
-
-    wheel_point: np.ndarray      # (3,) m, contact point on the wheel
-    rail_point: np.ndarray       # (3,) m, contact point on the rail
-    normal: np.ndarray           # (3,) unit, rail outward normal (from rail into wheel)
-    indentation: float           # m, C_max of this contact (>= 0)
-    kc: float = float("nan")     # N/m, contact stiffness used for this contact
-    force: float = 0.0           # N, normal force magnitude kc * indentation
-    rolling_radius: float = float("nan")   # m, distance of wheel_point from the axle axis
-    contact_angle: float = float("nan")    # rad, normal's angle from vertical; > 0 toward flange
-    wheel_s: float = float("nan")          # m, profile coordinate on the wheel (see Profile)
-    rail_v: float = float("nan")           # m, profile coordinate on the rail (see Profile)
-    wheel_curv_rolling: float = float("nan")    # 1/m, principal curvature, rolling direction
-    wheel_curv_transverse: float = float("nan")  # 1/m, wheel profile curvature (convex > 0)
-    rail_curv_transverse: float = float("nan")   # 1/m, rail profile curvature (convex > 0)
 
 
 @dataclass
@@ -62,6 +45,7 @@ class PoseResult:
     contacts: dict[str, list[ContactResult]] = field(
         default_factory=lambda: {"left": [], "right": []})
     time: float = 0.0             # s, CPU time of this solve
+    n_roots: int = 0              # rigid two-wheel contact solutions found (locus roll scan)
 
     @property
     def n_contacts(self) -> dict[str, int]:

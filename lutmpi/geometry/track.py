@@ -83,8 +83,12 @@ class PlacedRail:
         gauge: float,
         gauge_depth: float,
         max_slope_deg: float = MAX_SLOPE_DEG,
+        gauge_v: float | None = None,
     ) -> PlacedRail:
-        """Incline and place ``profile`` (kind ``rail``) as the left rail (``u = y``)."""
+        """Incline and place ``profile`` (kind ``rail``) in side-local coordinates.
+
+        ``gauge_v``: the profile's own lateral coordinate (m, before inclination) of an explicit
+        gauge point; None finds it ``gauge_depth`` below the top of rail."""
         if profile.kind != "rail":
             raise GeometryError(f"expected a rail profile, got a {profile.kind} ({profile.name})")
         n = max(int((profile.y_max - profile.y_min) / _SAMPLE), 200)
@@ -93,7 +97,15 @@ class PlacedRail:
         cd, sd = np.cos(inclination), np.sin(inclination)
         vp, wp = v * cd - w * sd, v * sd + w * cd
         w_top = float(wp.max())
-        v_gp = cls._gauge_v(vp, wp, w_top - gauge_depth, profile.name)
+        if gauge_v is None:
+            v_gp = cls._gauge_v(vp, wp, w_top - gauge_depth, profile.name)
+        else:
+            if not profile.y_min <= gauge_v <= profile.y_max:
+                raise GeometryError(f"rail {profile.name}: gauge point v = {gauge_v * 1e3:.3f} mm "
+                                    "is outside the profile")
+            w_gp = float(profile.z_at(gauge_v))
+            v_gp = float(gauge_v * cd - w_gp * sd)
+            gauge_depth = w_top - float(gauge_v * sd + w_gp * cd)
         u = 0.5 * gauge + (vp - v_gp)
         z = wp - w_top
         # keep the part around the top that is a function of u and not steeper than the limit

@@ -23,6 +23,7 @@ where it was solved does not enter the file.
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import logging
 import os
@@ -44,16 +45,17 @@ from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import BuildInterruptedError, ConfigError, LutmpiError
 from lutmpi.parallel import partition
 from lutmpi.parallel.comm import SelfComm, root_decides
+from lutmpi.parallel.jumps_step import add_jumps
 from lutmpi.parallel.workqueue import make_counter
 from lutmpi.parallel.writer import TableWriter
 from lutmpi.table.compute import Solver, compute_points, default_solver
 from lutmpi.table.grid import Grid
 from lutmpi.table.provenance import input_record
-from lutmpi.table.schema import SCHEMA_VERSION, select_fields
+from lutmpi.table.schema import SCHEMA_VERSION, D, select_fields
 
 log = logging.getLogger(__name__)
 
-#: a rank looks at the clock (checkpoint, progress) this many times over its points, at most
+#: a static split hands a rank its points in at most this many batches (progress per batch)
 N_STEPS = 200
 PROGRESS_EVERY_S = 10.0
 
@@ -74,7 +76,8 @@ class BuildSummary:
 
     @property
     def parallel_efficiency(self) -> float:
-        """Sum of busy time over ``ranks * wall time``."""
+        """Sum of busy time over ``ranks * wall time``: the busy fraction of the ranks (not a
+        speed-up against one rank; ``benchmarks/strong_scaling.py`` measures that)."""
         return sum(self.busy_s) / (self.ranks * self.wall_time_s) if self.wall_time_s > 0 else 0.0
 
     @property
@@ -116,7 +119,7 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
                 solver: Solver | None = None, force: bool = False, resume: bool = False,
                 methods: Sequence[str] | None = None,
                 scene_factory: Callable[[Config], Any] | None = None,
-                checkpoint_interval_s: float = 60.0, split: str = "dynamic") -> BuildSummary:
+                checkpoint_interval_s: float = 10.0, split: str = "dynamic") -> BuildSummary:
     """Build the lookup table of ``config`` into ``output_path``.
 
     Parameters
@@ -176,7 +179,7 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
         raise
     log.debug("prepared in %.3f s", time.perf_counter() - t_start)
     try:
-        return _run(comm, writer, solver, prep, t_start, split)
+        return _run(comm, writer, solver, prep, t_start, split, config)
     except BaseException as exc:
         writer.close()
         if isinstance(exc, BuildInterruptedError) and comm.rank == 0:
@@ -211,7 +214,7 @@ def _abort(comm: Any, exc: BaseException) -> None:
 
 
 def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t_start: float,
-         split: str) -> BuildSummary:
+         split: str, config: Config) -> BuildSummary:
     grid, methods = writer.grid, writer.methods
     attrs = {"config_toml": prep["config_toml"], "lutmpi_version": __version__,
              "git_commit": prep["git_commit"], "created_utc": prep["created_utc"],
@@ -230,7 +233,8 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
     busy_all = np.asarray(comm.bcast(comm.gather(busy, root=0), root=0), dtype=float)
     journal_s = float(comm.allreduce(writer.journal_seconds))
-    writer.finish({"wall_time_s": wall, "rank_busy_s": busy_all})
+    writer.finish({"wall_time_s": wall, "rank_busy_s": busy_all}, after_grid=functools.partial(
+        add_jumps, comm, grid, config, prep["scene"], solver, methods, writer.fields))  # issue 11
     if comm.rank == 0:
         log.info("journal: %.3f s of writing and syncing over all ranks (%.2f %% of busy time)",
                  journal_s, 100 * journal_s / max(float(busy_all.sum()), 1e-12))
@@ -309,7 +313,7 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
                wall: float) -> BuildSummary:
     counts = np.zeros(len(STATUS), dtype=np.int64)
     for rec in writer.blocks.values():
-        codes = rec["status"].ravel().astype(np.int64)
+        codes = rec[D.status].ravel().astype(np.int64)
         counts += np.bincount(codes[(codes >= 0) & (codes < len(STATUS))], minlength=len(STATUS))
     counts = comm.allreduce(counts)
     names = {code: text.split(":")[0] for code, text in STATUS.items()}
@@ -322,8 +326,13 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
         log.info("table %s: %d points (%d computed, %d reused) x %d method(s); status %s",
                  out, summary.points, computed, summary.reused, len(writer.methods),
                  summary.status_counts)
-        log.info("wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; parallel "
-                 "efficiency %.1f %%", wall, comm.size,
+        # names that say what they are: busy/(ranks x wall) is how busy the ranks were, not a
+        # speed-up; summed busy / wall is the speed-up over one rank only if a point costs the
+        # same with N ranks busy (measure it: benchmarks/strong_scaling.py)
+        log.info("wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; busy fraction "
+                 "%.1f %%; summed busy / wall %.2f (the speed-up over 1 rank if points cost the "
+                 "same on N)", wall, comm.size,
                  "[" + ", ".join(f"{b:.2f}" for b in summary.busy_s) + "]",
-                 summary.imbalance, 100 * summary.parallel_efficiency)
+                 summary.imbalance, 100 * summary.parallel_efficiency,
+                 sum(summary.busy_s) / wall if wall > 0 else 0.0)
     return summary

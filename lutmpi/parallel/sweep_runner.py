@@ -146,15 +146,14 @@ def _table_state(path: Path, inputs: dict[str, Any]) -> tuple[str, str]:
     member's only when its recorded input hashes equal ``inputs`` (content, not paths)."""
     if not path.exists():
         return "absent", ""
-    import h5py
+    from lutmpi.table.h5io import read_attrs
 
     try:
-        with h5py.File(path, "r") as f:
-            if not bool(f.attrs.get("complete", False)):
-                return "broken", "incomplete table"
-            text = f.attrs.get("inputs", "")
-            stored = json.loads(text.decode() if isinstance(text, bytes) else str(text or "{}"))
-    except (OSError, ValueError) as exc:
+        attrs = read_attrs(path)
+        if not attrs.get("complete", False):
+            return "broken", "incomplete table"
+        stored = json.loads(attrs.get("inputs") or "{}")
+    except (LutmpiError, ValueError) as exc:
         return "broken", str(exc)
     diffs = provenance.differences(stored, inputs)
     return ("different", "; ".join(diffs)) if diffs else ("complete", "")
@@ -162,26 +161,43 @@ def _table_state(path: Path, inputs: dict[str, Any]) -> tuple[str, str]:
 
 def _table_stats(path: Path) -> dict[str, Any]:
     """Points, failed points, CPU seconds, stored wall time and ranks of a complete table."""
-    import h5py
     import numpy as np
 
-    with h5py.File(path, "r") as f:
-        methods = json.loads(f.attrs["methods"])
-        points = failed = 0
-        cpu = 0.0
-        for m in methods:
-            status = f[m]["status"][...]
-            points += status.size
-            failed += int(np.count_nonzero(status != 0))
-            if "compute_time" in f[m]:
-                cpu += float(np.nansum(f[m]["compute_time"][...]))
-        return {"points": points, "failed_points": failed, "cpu_s": cpu,
-                "wall_s": float(f.attrs.get("wall_time_s", math.nan)),
-                "ranks": int(f.attrs.get("ranks", 0))}
+    from lutmpi.table import Table
+    from lutmpi.table.schema import D
+
+    table = Table.open(path, mask_failed=False)
+    points = failed = 0
+    cpu = 0.0
+    for m in table.methods:
+        status = table.get(D.status, m, raw=True)
+        points += status.size
+        failed += int(np.count_nonzero(status != 0))
+        if D.compute_time in table.quantities:
+            cpu += float(np.nansum(table.get(D.compute_time, m, raw=True)))
+    return {"points": points, "failed_points": failed, "cpu_s": cpu,
+            "wall_s": float(table.attrs.get("wall_time_s", math.nan)),
+            "ranks": int(table.attrs.get("ranks", 0))}
 
 
 def write_index(outdir: Path, records: Sequence[MemberRecord]) -> None:
-    """Write ``index.csv`` and ``index.json`` atomically (rank 0 only)."""
+    """Write ``index.csv`` and ``index.json`` atomically (rank 0 only).
+
+    Raises
+    ------
+    OutputError
+        A write error (disk full, I/O error), naming the folder; the tables are not affected.
+    """
+    from lutmpi.errors import OutputError
+
+    try:
+        _write_index(outdir, records)
+    except OSError as exc:
+        raise OutputError(f"cannot write the sweep index in {outdir}: {exc.strerror or exc}; "
+                          "the member tables are kept: rerun the sweep to rewrite it") from exc
+
+
+def _write_index(outdir: Path, records: Sequence[MemberRecord]) -> None:
     rows = [r.row() for r in records]
     tmp = outdir / "index.csv.tmp"
     with open(tmp, "w", newline="") as fh:

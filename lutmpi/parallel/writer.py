@@ -145,6 +145,10 @@ class TableWriter:
             raise TableError(f"cannot resume {self.out}: {self.partial} has no journal "
                              f"{jdir.name}/ (written by an older lutmpi, or removed); pass --force "
                              "to start over")
+        if not (jdir / journal.HEADER_NAME).exists() and not journal.record_files(jdir):
+            log.info("the journal %s was never started (killed while creating it): starting "
+                     "afresh", jdir)
+            return Plan(resume=False, done=None, run_id=journal.new_run_id())
         header = journal.read_header(jdir)
         diffs = provenance.differences(header.inputs, self.inputs)
         if diffs:
@@ -209,14 +213,19 @@ class TableWriter:
         return self._journal.seconds if self._journal is not None else 0.0
 
     # -- 4. collective end ---------------------------------------------------------------------
-    def finish(self, run_attrs: dict[str, Any]) -> None:
-        """Write the table and make it appear at ``out`` (collective)."""
+    def finish(self, run_attrs: dict[str, Any], after_grid: Any = None) -> None:
+        """Write the table and make it appear at ``out`` (collective).
+
+        ``after_grid(f, io, row_start, blocks)``, when given, runs on every rank once the grid
+        is written and before ``complete`` is set (the post-build step: contact jumps)."""
         if self._journal is not None:
             self._journal.sync()      # every point is on disk before the table is written
             self._journal.close()
         self._exchange()
         f = self.io.open(self.partial, "r+")
         h5io.write_blocks(f, self.io, self.row_start, self.blocks)
+        if after_grid is not None:
+            after_grid(f, self.io, self.row_start, self.blocks)
         h5io.finalize(f, run_attrs)
         self.comm.Barrier()
         root_decides(self.comm, self._publish)

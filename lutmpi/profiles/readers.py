@@ -24,6 +24,7 @@ from lutmpi.errors import ProfileError
 from lutmpi.profiles import miniprof, plaintext, simpack
 from lutmpi.profiles._raw import RawProfile
 from lutmpi.profiles.model import Profile
+from lutmpi.profiles.options import ReadOptions, apply_options
 from lutmpi.profiles.validate import build_profile
 
 
@@ -96,7 +97,8 @@ def _read_text(path: Path) -> str:
 
 
 def read_profile(path: str | Path, kind: str | None = None, format: str | None = None, *,
-                 smoothing: float | None = None, cant_rad: float | None = None) -> Profile:
+                 smoothing: float | None = None, cant_rad: float | None = None,
+                 options: ReadOptions | None = None) -> Profile:
     """Read a wheel or rail profile file into a normalized :class:`Profile` (SI units).
 
     Parameters
@@ -112,6 +114,8 @@ def read_profile(path: str | Path, kind: str | None = None, format: str | None =
         measured MiniProf data (:func:`lutmpi.profiles.validate.auto_smoothing`).
     cant_rad : float, optional
         Inclination already in the data (rails), rad; overrides what the file says.
+    options : ReadOptions, optional
+        Axis flips, offsets, origin convention (:mod:`lutmpi.profiles.options`).
 
     Returns
     -------
@@ -128,4 +132,5 @@ def read_profile(path: str | Path, kind: str | None = None, format: str | None =
     reader = get_reader(name)
     raw = reader.parse(text.splitlines(), str(p))
     raw.meta.setdefault("format", name)
+    raw = apply_options(raw, options, str(p))
     return build_profile(raw, str(p), kind, p.stem, smoothing=smoothing, cant_rad=cant_rad)

@@ -40,6 +40,18 @@ def _source(section: dict[str, Any]) -> str:
     return "?"
 
 
+def _side(section: dict[str, Any], name: str) -> dict[str, Any]:
+    """A ``[wheel]``/``[rail]`` section resolved for one side: ``[wheel.left]`` keys over
+    ``[wheel]``'s (a table without side sections gives the same for both)."""
+    base = {k: v for k, v in section.items() if not isinstance(v, dict)}
+    return {**base, **(section.get(name) or {})}
+
+
+def _sides(section: dict[str, Any], what=_source) -> str:
+    left, right = (what(_side(section, n)) for n in ("left", "right"))
+    return left if left == right else f"{left} (left) | {right} (right)"
+
+
 def pair_info(config_toml: str) -> PairInfo:
     """The :class:`PairInfo` of a table's ``config_toml`` (defaults for keys it leaves out)."""
     from lutmpi.config.model import Config
@@ -56,33 +68,44 @@ def pair_info(config_toml: str) -> PairInfo:
         for key, value in (keys or {}).items():
             if value:
                 wear.append(f"{part} {key.removesuffix('_mm').replace('_', ' ')} {value:g} mm")
+    radii = [float(_side(wheel, n).get("nominal_radius_mm", 460.0)) for n in ("left", "right")]
     return PairInfo(
-        wheel=_source(wheel), rail=_source(rail),
-        cant=str(rail.get("inclination", "1:20")),
+        wheel=_sides(wheel), rail=_sides(rail),
+        cant=_sides(rail, lambda r: str(r.get("inclination", "1:20"))),
         gauge_mm=float(track.get("gauge_mm", dflt_track.gauge_mm)),
         back_to_back_mm=float(ws.get("back_to_back_mm", dflt_ws.back_to_back_mm)),
-        r0_mm=float(wheel.get("nominal_radius_mm", 460.0)),
+        r0_mm=0.5 * (radii[0] + radii[1]),
         wear=", ".join(wear))
 
 
-#: EN 15302 Annex E cases with equal wheels (right / left wheel profile, rail, diameters 920 mm):
-#: reference wheel profile file stem -> case
-EN15302_SYMMETRIC = {"RUIC519A": "E1", "RUIC519B": "E2", "RUIC519H": "E3", "RUIC519I": "E4"}
+#: EN 15302 Annex E cases (EN 15302:2008, Annex E): (right wheel, left wheel, right radius, left
+#: radius in mm) -> case, all on reference rail A; wheels are the reference profile file stems
+EN15302_CASES = {
+    ("RUIC519A", "RUIC519A", 460.0, 460.0): "E1", ("RUIC519B", "RUIC519B", 460.0, 460.0): "E2",
+    ("RUIC519H", "RUIC519H", 460.0, 460.0): "E3", ("RUIC519I", "RUIC519I", 460.0, 460.0): "E4",
+    ("RUIC519A", "RUIC519A", 460.0, 459.0): "E5", ("RUIC519B", "RUIC519B", 460.0, 459.0): "E6",
+    ("RUIC519H", "RUIC519H", 460.0, 459.0): "E7", ("RUIC519I", "RUIC519I", 460.0, 459.0): "E8",
+    ("RUIC519A", "RUIC519B", 460.0, 460.0): "E9",
+}
 EN15302_RAIL = "SUIC519A"
 
 
 def en15302_case(config_toml: str) -> str | None:
-    """The EN 15302 Annex E case a table's configuration is (``E1`` … ``E4``), else None.
+    """The EN 15302 Annex E case a table's configuration is (``E1`` … ``E9``), else None.
 
-    Recognised by the standard's reference profile files (wheel ``RUIC519A/B/H/I``, rail
-    ``SUIC519A``) with equal wheels of 920 mm diameter; the cases with unequal diameters or
-    profiles (E5 … E9) need per-side wheels and are not matched here."""
+    Recognised by the standard's reference profile files (wheels ``RUIC519A/B/H/I`` right and
+    left, rail ``SUIC519A`` on both sides) and the wheel diameters (920 mm, or 918 mm on the left
+    wheel for E5-E8)."""
     cfg = tomllib.loads(config_toml or "")
     wheel, rail = cfg.get("wheel", {}), cfg.get("rail", {})
-    if not wheel.get("profile") or not rail.get("profile"):
+    rails = {_stem(_side(rail, n)) for n in ("left", "right")}
+    if rails != {EN15302_RAIL}:
         return None
-    if Path(str(rail["profile"])).stem.upper() != EN15302_RAIL:
-        return None
-    if abs(float(wheel.get("nominal_radius_mm", 460.0)) - 460.0) > 1e-9:
-        return None
-    return EN15302_SYMMETRIC.get(Path(str(wheel["profile"])).stem.upper())
+    key = (_stem(_side(wheel, "right")), _stem(_side(wheel, "left")),
+           float(_side(wheel, "right").get("nominal_radius_mm", 460.0)),
+           float(_side(wheel, "left").get("nominal_radius_mm", 460.0)))
+    return EN15302_CASES.get(key)
+
+
+def _stem(section: dict[str, Any]) -> str:
+    return Path(str(section.get("profile", ""))).stem.upper()

@@ -146,7 +146,9 @@ def _indices(ctx: ReportContext) -> list[str]:
              head + " |", "|---|---|" + "---|" * idx.amplitudes.size,
              "| tan γe | EN 15302 Annex B | " + " | ".join(_f(v) for v in idx.conicity) + " |",
              "| rolling-radii coefficient κ | LSQ slope of Δr / 2 | "
-             + " | ".join(_f(v) for v in idx.rolling_radii) + " |", "",
+             + " | ".join(_f(v) for v in idx.rolling_radii) + " |",
+             "| Δtanγ at y = ŷ | tan γ_left − tan γ_right | "
+             + " | ".join(_f(v) for v in _dtan_at(ctx, idx.amplitudes)) + " |", "",
              f"Nonlinearity parameter NP (Polach 2010) = {_f(idx.nonlinearity * 1e-3)} 1/mm.", ""]
     if band is None and ctx.band_case:
         lines.append(f"No EN 15302 band: case {ctx.band_case} data not found (shared/).")
@@ -155,6 +157,21 @@ def _indices(ctx: ReportContext) -> list[str]:
         lines.append(f"EN 15302 Annex E case {ctx.band_case}: tolerance band drawn; "
                      f"{inside[0]} of {inside[1]} computed amplitudes inside it.")
     return lines + [ctx.fig(path), ""]
+
+
+def _dtan_at(ctx: ReportContext, ys: np.ndarray) -> np.ndarray:
+    """Δtanγ at the lateral shifts ``ys`` (m), NaN where a neighbouring pose failed or the two
+    neighbours straddle a contact jump (a jump is not interpolated)."""
+    y = ctx.table.y
+    d = indices.delta_tan_gamma(ctx.at0(D.contact_angle))
+    out = np.full(np.size(ys), np.nan)
+    for k, v in enumerate(np.atleast_1d(ys)):
+        i = int(np.searchsorted(y, v)) - 1
+        if 0 <= i < y.size - 1 and not ctx.mask[i]:
+            out[k] = float(np.interp(v, y[i:i + 2], d[i:i + 2]))
+        elif i + 1 < y.size and abs(y[i + 1] - v) < 1e-12:
+            out[k] = float(d[i + 1])
+    return out
 
 
 def _band(case: str | None) -> dict[str, np.ndarray] | None:

@@ -9,9 +9,13 @@ from pathlib import Path
 import numpy as np
 
 
+def _name(side: float) -> str:
+    return "left" if side > 0 else "right"
+
+
 def _wheel_curve(scene, side: float, z_g: float, y: float, roll: float):
     """Lowest generator of wheel ``side`` in the track's y-z plane (yaw 0), m."""
-    w = scene.wheel
+    w = scene.side(_name(side)).wheel
     s = np.linspace(w.profile.y_min, w.profile.y_max, 1500)
     r = w.radius(s)
     yb, zb = side * (w.d + s), -r
@@ -20,7 +24,7 @@ def _wheel_curve(scene, side: float, z_g: float, y: float, roll: float):
 
 
 def _rail_curve(scene, side: float):
-    rail = scene.rail
+    rail = scene.side(_name(side)).rail
     return side * rail.u, rail.z
 
 
@@ -44,8 +48,8 @@ def plot_track(scene, out: str | Path, y: float = 0.0, title: str | None = None)
             ax.plot(ry * 1e3, rz * 1e3, color="0.3", lw=1)
             wy, wz = _wheel_curve(scene, side, res.z_g, y, res.roll)
             ax.plot(wy * 1e3, wz * 1e3, color=colour, lw=1.2)
-            gp = side * scene.rail.gauge_point[0]
-            ax.plot([gp * 1e3], [scene.rail.gauge_point[1] * 1e3], "k+", ms=8)
+            rail = scene.side(_name(side)).rail
+            ax.plot([side * rail.gauge_point[0] * 1e3], [rail.gauge_point[1] * 1e3], "k+", ms=8)
         for name in ("left", "right"):
             for c in res.contacts[name]:
                 ax.plot(c.wheel_point[1] * 1e3, c.wheel_point[2] * 1e3, "ro", ms=4)
@@ -56,14 +60,14 @@ def plot_track(scene, out: str | Path, y: float = 0.0, title: str | None = None)
     ax0.set_ylim(-60, 60)
     ax0.set_xlim(-820, 820)
     ax0.set_title(title or f"y = {y * 1e3:.2f} mm, yaw 0: z_g = {res.z_g * 1e3:.3f} mm, "
-                           f"roll = {res.roll:.2e} rad (rigid contact)")
-    g = scene.rail.gauge / 2 * 1e3
+                           f"roll = {np.degrees(res.roll):.4f} deg (rigid contact)")
+    g = scene.side("left").rail.gauge / 2 * 1e3
     axl.set_xlim(g - 25, g + 80)
     axr.set_xlim(-g - 80, -g + 25)
     for ax, name in ((axl, "left"), (axr, "right")):
         ax.set_ylim(-45, 25)
         cs = res.contacts[name]
-        txt = ", ".join(f"s = {c.wheel_s * 1e3:.2f} mm, angle {c.contact_angle:.3f} rad"
+        txt = ", ".join(f"s = {c.wheel_s * 1e3:.2f} mm, angle {np.degrees(c.contact_angle):.2f} deg"
                         for c in cs)
         ax.set_title(f"{name}: {txt}", fontsize=9)
     fig.tight_layout()

@@ -1,4 +1,4 @@
-"""``Table``: a complete lookup table in memory, and its interpolation.
+"""``Table``: a complete lookup table in memory, and its jump-aware interpolation.
 
 >>> from lutmpi.table import Table
 >>> t = Table.open("t.h5")
@@ -8,7 +8,12 @@
 Points whose solve did not converge (``status != 0``) are masked: their float values read as NaN in
 :meth:`Table.get` and in :meth:`Table.interp` (see :mod:`lutmpi.table.interp` for how NaN spreads);
 ``raw=True`` / ``mask_failed=False`` give the stored values. Integer datasets (``status``,
-``iterations``, ``n_contacts``) are not interpolated: the value at the nearest node is returned.
+``iterations``, ``n_contacts``) are not interpolated: the value at the nearest knot of the query's
+side of any jump is returned.
+
+Interpolation never crosses a located contact jump (``/<method>/jumps``, issue 11), uses per
+quantity the interpolant chosen at build time (attribute ``interpolants``), and never clips: a
+query outside the grid raises, or with ``outside="flag"`` reads NaN and is flagged.
 """
 
 from __future__ import annotations
@@ -24,6 +29,25 @@ import numpy as np
 from lutmpi.equilibrium.result import CONVERGED, STATUS
 from lutmpi.errors import TableError
 from lutmpi.table import interp as _interp
+from lutmpi.table.schema import D
+
+
+def mask_failed(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Float arrays with NaN where ``status`` is not converged (same leading shape)."""
+    if D.status not in arrays:
+        return arrays
+    bad = arrays[D.status] != CONVERGED
+    out = {}
+    for name, arr in arrays.items():
+        if arr.dtype.kind == "f" and bad.any():
+            arr = arr.copy()
+            arr[bad] = np.nan
+        out[name] = arr
+    return out
+
+
+#: the extra keys of :meth:`Table.interp` with ``info=True``
+INFO_KEYS = ("out_of_range", "jump_side", "jump_distance")
 
 
 @dataclass(eq=False)
@@ -55,6 +79,9 @@ class Table:
     meta: dict[str, dict[str, dict[str, Any]]]
     mask_failed: bool = True
     _masked: dict[str, dict[str, np.ndarray]] = field(default_factory=dict, repr=False)
+    jumps: dict[str, dict[str, Any]] = field(default_factory=dict, repr=False)
+    _interp: dict[tuple[Any, ...], _interp.Interpolator] = field(default_factory=dict,
+                                                                 repr=False)
 
     @classmethod
     def open(cls, path: str | os.PathLike[str], *, mask_failed: bool = True) -> Table:
@@ -65,25 +92,66 @@ class Table:
         TableError
             Missing, incomplete, not a table, or written by a newer schema version.
         """
-        from lutmpi.table.h5io import read_table
+        from lutmpi.table.h5io import read_jumps, read_table
 
         raw = read_table(path)
         table = cls(str(path), raw["y"], raw["yaw"], raw["attrs"], raw["methods"], raw["meta"],
                     mask_failed)
         table._masked = {m: table._mask(d) for m, d in table.data.items()}
+        table.jumps = read_jumps(path)
         return table
 
     def _mask(self, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        if not self.mask_failed or "status" not in arrays:
-            return arrays
-        bad = arrays["status"] != CONVERGED
-        out = {}
-        for name, arr in arrays.items():
-            if arr.dtype.kind == "f" and bad.any():
-                arr = arr.copy()
-                arr[bad] = np.nan
-            out[name] = arr
-        return out
+        return mask_failed(arrays) if self.mask_failed else arrays
+
+    def interpolator(self, method: str | None = None, *, jump_aware: bool = True,
+                     quantities: Iterable[str] | None = None) -> _interp.Interpolator:
+        """The compiled-ready interpolator of one method (built once, cached).
+
+        ``jump_aware=False`` gives the plain interpolation (linear in y and yaw over the grid
+        nodes, blending across jumps): the baseline the table-error report compares with.
+        ``quantities`` restricts it to some datasets (``status`` is always kept): a smaller
+        value vector, a faster lookup (the dynamics' provider).
+        """
+        method = self._method(method)
+        names = None if quantities is None else tuple(
+            n for n in self.data[method] if n in set(quantities) | {D.status})
+        key = (method, jump_aware, names)
+        if key not in self._interp:
+            arrays = self._masked[method]
+            if names is not None:
+                arrays = {n: arrays[n] for n in names}
+            stored = self.jumps.get(method) if jump_aware else None
+            if stored is None:
+                ip = _interp.build(self.y, self.yaw, arrays)
+            else:
+                limits = self._mask(stored["limits"])
+                modes = json.loads(stored["attrs"].get("interpolants", "{}"))
+                ip = _interp.build(self.y, self.yaw, arrays, stored["arrays"], limits,
+                                   stored["arrays"].get("knot_y"),
+                                   self._mask(stored.get("knots", {})), modes)
+            self._interp[key] = ip
+        return self._interp[key]
+
+    def jump_positions(self, method: str | None = None) -> np.ndarray:
+        """Located jumps ``(nyaw, K)``, m (NaN padded); ``(nyaw, 0)`` when none are stored."""
+        stored = self.jumps.get(self._method(method))
+        if stored is None:
+            return np.zeros((self.yaw.size, 0))
+        return np.asarray(stored["arrays"]["jump_y"], float)
+
+    def attribute(self, name: str) -> Any:
+        """A root attribute the dynamics needs (:data:`lutmpi.table.schema.DYNAMICS_ATTRIBUTES`).
+
+        Raises
+        ------
+        TableError
+            The table predates it (rebuild the table).
+        """
+        if name not in self.attrs:
+            raise TableError(f"{self.path}: no attribute {name!r}; the table was built by an "
+                             f"older lutmpi ({self.attrs.get('lutmpi_version', '?')}): rebuild it")
+        return self.attrs[name]
 
     @property
     def methods(self) -> list[str]:
@@ -124,14 +192,14 @@ class Table:
 
     def status_counts(self, method: str | None = None) -> dict[str, int]:
         """Number of points per status text."""
-        codes, counts = np.unique(self.get("status", method, raw=True), return_counts=True)
+        codes, counts = np.unique(self.get(D.status, method, raw=True), return_counts=True)
         return {STATUS.get(int(c), str(c)).split(":")[0]: int(n) for c, n in zip(codes, counts,
                                                                                  strict=True)}
 
     def interp(self, y: Any, yaw: Any, method: str | None = None,
-               quantities: Iterable[str] | None = None, *, outside: str = "clip",
-               ) -> dict[str, np.ndarray]:
-        """Bilinear interpolation of stored quantities at ``(y, yaw)``.
+               quantities: Iterable[str] | None = None, *, outside: str = "raise",
+               info: bool = False, jump_aware: bool = True) -> dict[str, np.ndarray]:
+        """Interpolate stored quantities at ``(y, yaw)``, never across a located jump.
 
         Parameters
         ----------
@@ -141,23 +209,47 @@ class Table:
             Contact method; default the first stored.
         quantities : iterable of str, optional
             Dataset names; default every stored one.
-        outside : {"clip", "nan", "raise"}
-            Queries outside the grid: clamp to the boundary (default), NaN, or ``ValueError``.
+        outside : {"raise", "flag"}
+            A query outside the grid raises ``ValueError`` naming it (default), or with
+            ``"flag"`` reads NaN (-1 for integers) and is marked in ``out_of_range``.
+        info : bool
+            Add :data:`INFO_KEYS`: ``out_of_range`` (bool), ``jump_side`` (int: the number of
+            jumps below the query at its yaw, so two queries on the same side of every jump have
+            the same value; a query exactly at a jump is on its upper side) and
+            ``jump_distance`` (m, signed distance to the nearest jump, NaN when none).
+        jump_aware : bool
+            False: plain linear interpolation over the grid nodes (the baseline).
 
         Returns
         -------
         dict
             ``name -> array of shape broadcast(y, yaw).shape + suffix`` (float; integer datasets
-            give the nearest node's value).
+            keep their dtype), plus ``out_of_range`` with ``outside="flag"`` and
+            :data:`INFO_KEYS` with ``info``.
         """
+        if outside not in ("raise", "flag"):
+            raise ValueError(f"outside must be 'raise' or 'flag', got {outside!r} (a table "
+                             "never clips a query to its edge)")
         method = self._method(method)
         names = list(quantities) if quantities is not None else list(self.data[method])
-        st = _interp.stencil(self.y, self.yaw, y, yaw, outside)
-        out = {}
         for name in names:
-            arr = self.get(name, method)
-            if arr.dtype.kind == "f":
-                out[name] = _interp.bilinear(arr, st)
-            else:
-                out[name] = _interp.nearest(arr, st, fill=-1)
+            self.get(name, method)
+        ys, yaws = np.broadcast_arrays(np.asarray(y, dtype=float), np.asarray(yaw, dtype=float))
+        ip = self.interpolator(method, jump_aware=jump_aware)
+        value, _, _, flags, piece, dist = ip.evaluate(ys.ravel(), yaws.ravel())
+        out_of_range = (flags & _interp.OUT_OF_RANGE) != 0
+        if outside == "raise" and out_of_range.any():
+            k = int(np.flatnonzero(out_of_range)[0])
+            raise ValueError(
+                f"{self.path}: query (y={ys.ravel()[k]:.6g} m, yaw={yaws.ravel()[k]:.6g} rad) "
+                f"outside the table grid y in [{self.y[0]:.6g}, {self.y[-1]:.6g}] m, yaw in "
+                f"[{self.yaw[0]:.6g}, {self.yaw[-1]:.6g}] rad")
+        dtypes = {n: self.data[method][n].dtype for n in names}
+        out = {n: v.reshape(ys.shape + v.shape[1:])
+               for n, v in ip.layout.unpack(value, names, dtypes).items()}
+        if outside == "flag" or info:
+            out["out_of_range"] = out_of_range.reshape(ys.shape)
+        if info:
+            out["jump_side"] = piece.reshape(ys.shape)
+            out["jump_distance"] = dist.reshape(ys.shape)
         return out

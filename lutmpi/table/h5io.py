@@ -31,7 +31,16 @@ from h5py import h5d, h5fd, h5p, h5s
 
 from lutmpi.errors import TableError
 from lutmpi.table.grid import Grid
-from lutmpi.table.schema import FIELDS, SCHEMA_VERSION, Field, dataset_attributes
+from lutmpi.table.schema import (
+    AXES,
+    FIELDS,
+    SCHEMA_VERSION,
+    Y_AXIS,
+    YAW_AXIS,
+    D,
+    Field,
+    dataset_attributes,
+)
 
 # bytes per point per method of a full table, plus slack; used for the free-space check
 _BYTES_PER_POINT = 8 * 200
@@ -108,8 +117,9 @@ def create_partial(path: Path, io: SerialH5, rank: int, grid: Grid, methods: Seq
         for key, value in attrs.items():
             f.attrs[key] = value
         f.attrs["complete"] = False
-        for name, values, units, desc in (("y", grid.y, "m", "lateral shift y_g of the wheelset"),
-                                          ("yaw", grid.yaw, "rad", "yaw angle theta_z")):
+        for name, values, units, desc in (
+                (Y_AXIS, grid.y, "m", "lateral shift y_g of the wheelset"),
+                (YAW_AXIS, grid.yaw, "rad", "yaw angle theta_z")):
             d = f.create_dataset(name, shape=values.shape, dtype="f8")
             d.attrs["units"], d.attrs["description"] = units, desc
             write_rows(d, 0, values if rank == 0 else values[:0], io.xfer())
@@ -124,8 +134,8 @@ def create_partial(path: Path, io: SerialH5, rank: int, grid: Grid, methods: Seq
                                      fillvalue=fld.fill, dcpl=dcpl, fill_time="alloc")
                 for key, value in dataset_attributes(fld).items():
                     d.attrs[key] = value
-                d.dims[0].attach_scale(f["y"])
-                d.dims[1].attach_scale(f["yaw"])
+                d.dims[0].attach_scale(f[Y_AXIS])
+                d.dims[1].attach_scale(f[YAW_AXIS])
 
 
 def write_blocks(f: h5py.File, io: SerialH5, row_start: int,
@@ -143,6 +153,21 @@ def finalize(f: h5py.File, attrs: dict[str, Any]) -> None:
         f.attrs.modify(key, value)
     f.attrs.modify("complete", True)
     f.close()
+
+
+def read_attrs(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """The root attributes of an HDF5 file (any state, complete or not) as plain values.
+
+    Raises
+    ------
+    TableError
+        Missing or unreadable file.
+    """
+    try:
+        with h5py.File(path, "r") as f:
+            return {k: _plain(v) for k, v in f.attrs.items()}
+    except OSError as exc:
+        raise TableError(f"{path}: not a readable HDF5 file ({exc})") from exc
 
 
 def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -185,7 +210,8 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
         raise TableError(f"{path}: schema version {version} is newer than this lutmpi "
                          f"understands ({SCHEMA_VERSION}); upgrade lutmpi to read it")
     if not attrs.get("complete", False):
-        raise TableError(f"{path}: the table is incomplete (its build did not finish)")
+        raise TableError(f"{path}: the table is incomplete (its build did not finish)"
+                         + _journal_note(path))
     for key in ("methods", "config_toml"):
         if key not in attrs:
             raise TableError(f"{path}: damaged table: root attribute {key!r} is missing")
@@ -202,14 +228,14 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
     if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
         raise TableError(f"{path}: damaged table: root attribute 'methods' = {names!r} is not "
                          "a non-empty list of names")
-    y, yaw = (_dataset(f, path, k, 1) for k in ("y", "yaw"))
+    y, yaw = (_dataset(f, path, k, 1) for k in AXES)
     methods, meta = {}, {}
     for name in names:
         if not isinstance(f.get(name), h5py.Group):
             raise TableError(f"{path}: damaged table: group /{name} (method {name}) is missing")
         g = f[name]
-        if "status" not in g:
-            raise TableError(f"{path}: damaged table: dataset /{name}/status is missing")
+        if D.status not in g:
+            raise TableError(f"{path}: damaged table: dataset /{name}/{D.status} is missing")
         order = [fld.name for fld in FIELDS if fld.name in g]
         methods[name] = {}
         for k in order:
@@ -220,7 +246,24 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
             methods[name][k] = arr
         meta[name] = {k: {a: _plain(v) for a, v in g[k].attrs.items()
                           if a not in ("DIMENSION_LIST",)} for k in order}
-    return {"attrs": attrs, "y": y, "yaw": yaw, "methods": methods, "meta": meta}
+    return {"attrs": attrs, Y_AXIS: y, YAW_AXIS: yaw, "methods": methods, "meta": meta}
+
+
+def _journal_note(path: Path) -> str:
+    """``"; N of M points are journaled ... --resume"`` for the partial file of a build."""
+    from lutmpi.table import journal
+
+    if not path.name.endswith(".partial"):
+        return ""
+    out = path.with_name(path.name.removesuffix(".partial"))
+    try:
+        header = journal.read_header(journal.journal_dir(out))
+        done = journal.done_points(journal.journal_dir(out))
+    except (TableError, OSError, KeyError, ValueError):
+        return ""
+    total = int(np.prod(header.shape))
+    return (f"; {done.size} of {total} points are journaled in {journal.journal_dir(out).name}/: "
+            f"`lutmpi build CONFIG -o {out} --resume` continues it")
 
 
 def _dataset(group: h5py.Group, path: Path, name: str, ndim: int | None) -> np.ndarray:
@@ -241,3 +284,67 @@ def _plain(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
     return value
+
+
+# -- contact jumps (issue 11): /<method>/jumps, written after the grid is complete ------------
+def write_jumps(f: h5py.File, io: SerialH5, rank: int, method: str, arrays: dict[str, np.ndarray],
+                limits: dict[str, np.ndarray], knot_y: np.ndarray, knots: dict[str, np.ndarray],
+                attrs: dict[str, Any]) -> None:
+    """Create ``/<method>/jumps`` (collective with :class:`MpioH5`: every rank holds the same
+    arrays) and write it from rank 0 (the other ranks take part with empty selections)."""
+    from lutmpi.table.schema import (
+        FIELDS_BY_NAME,
+        JUMP_FIELDS_BY_NAME,
+        JUMPS_GROUP,
+        KNOT_FIELD,
+        KNOTS_GROUP,
+        LIMITS_GROUP,
+        jump_attributes,
+    )
+
+    if JUMPS_GROUP in f[method]:        # a resumed build whose jumps were already written
+        del f[method][JUMPS_GROUP]
+    g = f[method].create_group(JUMPS_GROUP)
+    for key, value in attrs.items():
+        g.attrs[key] = value
+    dxpl = io.xfer()
+    items = [(g, name, arr, jump_attributes(JUMP_FIELDS_BY_NAME[name]))
+             for name, arr in arrays.items()]
+    lg = g.create_group(LIMITS_GROUP)
+    items += [(lg, name, arr, jump_attributes(FIELDS_BY_NAME[name], limit=True))
+              for name, arr in limits.items()]
+    items.append((g, KNOT_FIELD.name, knot_y, jump_attributes(KNOT_FIELD)))
+    kg = g.create_group(KNOTS_GROUP)
+    items += [(kg, name, arr, jump_attributes(FIELDS_BY_NAME[name]))
+              for name, arr in knots.items()]
+    for group, name, arr, meta in items:
+        d = group.create_dataset(name, shape=arr.shape, dtype=arr.dtype)
+        for key, value in meta.items():
+            d.attrs[key] = value
+        if arr.size:
+            write_rows(d, 0, arr if rank == 0 else arr[:0], dxpl)
+
+
+def write_root_attributes(f: h5py.File, attrs: dict[str, Any]) -> None:
+    """Set root attributes (collective: every rank passes the same values)."""
+    for key, value in attrs.items():
+        f.attrs[key] = value
+
+
+def read_jumps(path: str | os.PathLike[str]) -> dict[str, dict[str, Any]]:
+    """``method -> {"arrays", "limits", "attrs"}`` of the jumps stored in a table (methods
+    without a jumps group are absent: a table built before jumps were stored)."""
+    from lutmpi.table.schema import JUMPS_GROUP, KNOTS_GROUP, LIMITS_GROUP
+
+    out: dict[str, dict[str, Any]] = {}
+    with h5py.File(path, "r") as f:
+        for method in json.loads(_plain(f.attrs["methods"])):
+            if JUMPS_GROUP not in f[method]:
+                continue
+            g = f[method][JUMPS_GROUP]
+            out[method] = {
+                "arrays": {k: g[k][...] for k in g if isinstance(g[k], h5py.Dataset)},
+                "limits": {k: v[...] for k, v in g[LIMITS_GROUP].items()},
+                "knots": {k: v[...] for k, v in g[KNOTS_GROUP].items()},
+                "attrs": {k: _plain(v) for k, v in g.attrs.items()}}
+    return out

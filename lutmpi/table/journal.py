@@ -184,6 +184,7 @@ def read_records(path: Path, dtype: np.dtype, inputs_sha256: str,
             pos = len(data) if nxt < 0 else nxt
             continue
         out.append(arr)
+        report.good += 1
         pos = start + _HEAD.size + arr.nbytes
     return out, report
 

@@ -93,6 +93,8 @@ FIELDS: tuple[Field, ...] = (
     Field("kc", "f8", (), "N/m", "final contact stiffness scale k_c"),
     Field("indentation_max", "f8", (), "m", "final maximum indentation over both wheels"),
     Field("n_contacts", "i1", (len(SIDES),), "", "number of contacts per wheel [left, right]"),
+    Field("n_roots", "i1", (), "", "rigid two-wheel contact solutions found over the admissible "
+          "roll range (0: none; > 1: the stable one of lowest z_g is stored)"),
     # per wheel x contact slot
     Field("wheel_point", "f8", _V, "m", "contact point on the wheel, track frame (x, y, z)"),
     Field("rail_point", "f8", _V, "m", "contact point on the rail, track frame (x, y, z)"),
@@ -118,6 +120,11 @@ QUANTITY_FIELDS: dict[str, tuple[str, ...]] = {
 }
 #: stored whatever ``[output] quantities`` says (:data:`lutmpi.config.model.ALWAYS_STORED`)
 ALWAYS_STORED = ("status", "iterations", "compute_time")
+#: every selectable ``[output] quantities`` name, derived from :data:`FIELDS` in schema order: a
+#: field's group of :data:`QUANTITY_FIELDS` or the field itself, the always-stored ones left out
+QUANTITIES: tuple[str, ...] = tuple(dict.fromkeys(
+    next((q for q, names in QUANTITY_FIELDS.items() if f.name in names), f.name)
+    for f in FIELDS if f.name not in ALWAYS_STORED))
 CONTACT_DIMS = "y, yaw, side [0=left, 1=right], slot [0=largest force, 1=second contact]"
 
 
@@ -132,7 +139,7 @@ def select_fields(quantities: Iterable[str]) -> tuple[Field, ...]:
     Parameters
     ----------
     quantities : iterable of str
-        ``("all",)`` or names from :data:`lutmpi.config.model.QUANTITIES` (or dataset names);
+        ``("all",)`` or names from :data:`QUANTITIES` (or dataset names);
         :data:`ALWAYS_STORED` are always added.
 
     Returns
@@ -145,8 +152,6 @@ def select_fields(quantities: Iterable[str]) -> tuple[Field, ...]:
     ConfigError
         On an unknown name (the message lists the valid ones).
     """
-    from lutmpi.config.model import QUANTITIES
-
     wanted = set(quantities)
     if "all" in wanted:
         return FIELDS
@@ -183,3 +188,78 @@ def dataset_attributes(field: Field) -> dict[str, str]:
 #: ``D.rolling_radius == "rolling_radius"``: code outside this module names datasets through ``D``,
 #: so a renamed or removed field fails where it is used instead of reading a missing key
 D = namedtuple("DatasetNames", [f.name for f in FIELDS])(*(f.name for f in FIELDS))
+#: the root datasets: the table's axes and dimension scales, ``/y`` (m) and ``/yaw`` (rad)
+Y_AXIS, YAW_AXIS = "y", "yaw"
+AXES = (Y_AXIS, YAW_AXIS)
+
+
+# -- contact jumps (issue 11): /<method>/jumps/ -----------------------------------------------
+#: group of a method holding its located jumps (``/<method>/jumps``)
+JUMPS_GROUP = "jumps"
+#: sub-group of :data:`JUMPS_GROUP` holding the one-sided limits of every stored field
+LIMITS_GROUP = "limits"
+#: bits of ``jump_kind``
+JUMP_KIND_BITS = {1: "a contact point moves by more than the threshold",
+                  2: "a contact appears or disappears (contact count changes)",
+                  4: "the solve status changes"}
+#: bits of ``jump_side``
+JUMP_SIDE_BITS = {1: "left wheel", 2: "right wheel"}
+
+
+@dataclass(frozen=True)
+class JumpField:
+    """One dataset of ``/<method>/jumps/``, shape ``(nyaw, K)`` (K = most jumps at one yaw;
+    jumps sorted by y, unused entries NaN / 0)."""
+
+    name: str
+    dtype: str
+    units: str
+    description: str
+
+
+JUMP_FIELDS: tuple[JumpField, ...] = (
+    JumpField("jump_y", "f8", "m", "jump position y_j(yaw): middle of its bracket [lo, hi]"),
+    JumpField("jump_y_lo", "f8", "m", "last solved pose below the jump (lower-side limit)"),
+    JumpField("jump_y_hi", "f8", "m", "first solved pose above the jump (upper-side limit)"),
+    JumpField("jump_kind", "i1", "", "bit mask: " + "; ".join(
+        f"{k} = {v}" for k, v in JUMP_KIND_BITS.items())),
+    JumpField("jump_side", "i1", "", "bit mask: " + "; ".join(
+        f"{k} = {v}" for k, v in JUMP_SIDE_BITS.items())),
+)
+JUMP_FIELDS_BY_NAME = {f.name: f for f in JUMP_FIELDS}
+#: extra knots: every direct solve of the post-build step (bisection samples, refinement
+#: midpoints), ``/<method>/jumps/knot_y`` (nyaw, E) and ``/<method>/jumps/knots/<field>``
+#: (nyaw, E, *suffix), sorted by y, NaN padded
+KNOT_FIELD = JumpField("knot_y", "f8", "m", "extra knot position: a pose solved after the build "
+                       "(jump bisection or refinement), sorted per yaw, NaN padded")
+KNOTS_GROUP = "knots"
+#: ``J.jump_y == "jump_y"``: the datasets of ``/<method>/jumps/`` by name, as :data:`D`
+J = namedtuple("JumpDatasetNames", [f.name for f in JUMP_FIELDS + (KNOT_FIELD,)])(
+    *(f.name for f in JUMP_FIELDS + (KNOT_FIELD,)))
+#: dims of every limit dataset ``/<method>/jumps/limits/<field>``: shape (nyaw, K, 2) + suffix
+LIMIT_DIMS = "yaw, jump, side of the jump [0 = at jump_y_lo, 1 = at jump_y_hi], field dims"
+
+
+def limit_fields(fields: Iterable[Field]) -> tuple[Field, ...]:
+    """The fields whose one-sided limits are stored at each jump (every stored field but the
+    timing ones, which would break the table's independence of the run)."""
+    return tuple(f for f in fields if f.name not in TIMING_FIELDS)
+
+
+def jump_attributes(field: JumpField | Field, limit: bool = False) -> dict[str, str]:
+    """Attributes of a jump dataset (``limit``: a one-sided limit of a table field)."""
+    if limit:
+        return {"units": field.units, "description": f"one-sided limits of {field.name}: "
+                                                     f"{field.description}", "dims": LIMIT_DIMS}
+    return {"units": field.units, "description": field.description, "dims": "yaw, jump"}
+
+
+# -- what the dynamics reads from a table (issue 15): root attributes written at build time ----
+#: root attribute -> units; written by :func:`lutmpi.table.jumps.dynamics_attributes`
+DYNAMICS_ATTRIBUTES = {
+    "wheel_flange_angle": "rad",   # steepest flange flank of the wheel profile (Nadal's limit)
+    "young_modulus": "Pa",
+    "poisson_ratio": "1",
+    "nominal_radius": "m",
+    "vertical_load": "N",
+}

@@ -201,8 +201,11 @@ BAD = [  # (dotted key, bad value, key the error must name)
     ("material.poisson", 0.5, "material.poisson"),
     ("material.poisson", 0.0, "material.poisson"),
     ("material.poisson", -0.1, "material.poisson"),
-    ("rail.inclination", "1:25", "rail.inclination"),
-    ("rail.inclination", 0.05, "rail.inclination"),
+    ("rail.inclination", "1:2", "rail.inclination"),   # any 1:N with N >= 5 is a cant (issue 10)
+    ("rail.inclination", 0.5, "rail.inclination"),
+    ("rail.gauge_point", "middle", "rail.gauge_point"),
+    ("wheel.origin", "axle", "wheel.origin"),
+    ("rail.inclination", True, "rail.inclination"),
     ("wheel.generator", "S1003", "wheel.generator"),
     ("rail.generator", "S1002", "rail.generator"),
     ("wheel.nominal_radius_mm", 46.0, "wheel.nominal_radius_mm"),

@@ -52,27 +52,48 @@ def small_table(tmp_path_factory: pytest.TempPathFactory) -> tuple:
 
 
 def test_table_provider_equals_table_interp(small_table):
-    """The packed one-step interpolation gives what Table.interp gives, including the slopes
-    (a difference step inside a bilinear cell) and the NaN policy of missing contacts."""
+    """The provider's compiled lookup gives what Table.interp gives (the same jump-aware
+    interpolant), and its z_g / roll slopes are the interpolant's derivatives (centred
+    differences of Table.interp on the same side of every jump)."""
     table = Table.open(small_table[1])
     prov = TableProvider(table)
     rng = np.random.default_rng(3)
-    poses = [(table.y[k], table.yaw[k % table.yaw.size]) for k in range(table.y.size)]
-    poses += list(zip(rng.uniform(-9.5e-3, 9.5e-3, 60), rng.uniform(-0.13, 0.13, 60),
+    poses = [(table.y[k], table.yaw[1 + k % (table.yaw.size - 2)])
+             for k in range(1, table.y.size - 1)]
+    poses += list(zip(rng.uniform(-8.5e-3, 8.5e-3, 60), rng.uniform(-0.11, 0.11, 60),
                       strict=True))
+    h = 1e-8
     for y, yaw in poses:
         g = prov.evaluate(y, yaw)
-        yc, wc = np.clip(y, table.y[0], table.y[-1]), np.clip(yaw, table.yaw[0], table.yaw[-1])
-        hy = 1e-7 if yc + 1e-7 <= table.y[-1] else -1e-7
-        hw = 1e-7 if wc + 1e-7 <= table.yaw[-1] else -1e-7
-        rec = table.interp(np.array([yc, yc + hy, yc]), np.array([wc, wc, wc + hw]),
-                           quantities=prov.names)
-        ref = geometry_from_records(yc, wc, rec, hy, hw)
-        for name in g.__dataclass_fields__:
-            a, b = np.asarray(getattr(g, name), float), np.asarray(getattr(ref, name), float)
-            slope = name.startswith(("dz_", "droll_"))
-            np.testing.assert_allclose(a, b, rtol=1e-6 if slope else 1e-12,
-                                       atol=1e-8 if slope else 1e-15, err_msg=name)
+        assert g.status == 0
+        rec = table.interp(np.array([y, y - h, y + h, y, y]),
+                           np.array([yaw, yaw, yaw, yaw - h, yaw + h]), quantities=prov.names,
+                           info=True)
+        ref = geometry_from_records(y, yaw, {k: v[[0, 0, 0]] for k, v in rec.items()}, 1.0, 1.0)
+        for name in ("z_g", "roll", "wheel_point", "normal", "rolling_radius", "contact_angle",
+                     "curv_wheel_rolling", "active"):
+            np.testing.assert_allclose(np.asarray(getattr(g, name), float),
+                                       np.asarray(getattr(ref, name), float), rtol=1e-12,
+                                       atol=1e-15, err_msg=name)
+        if len(set(rec["jump_side"].tolist())) == 1 and abs(rec["jump_distance"][0]) > 2 * h:
+            for slope, name, a, b in (("dz_dy", "z_g", 1, 2), ("droll_dy", "roll", 1, 2),
+                                      ("dz_dyaw", "z_g", 0, 4), ("droll_dyaw", "roll", 0, 4)):
+                # y: centred (the interpolants are C1 in y); yaw: linear between columns, the
+                # slope of the cell above (forward) at a column
+                fd = (rec[name][b] - rec[name][a]) / ((2 if a else 1) * h)
+                assert getattr(g, slope) == pytest.approx(fd, rel=1e-4, abs=1e-7), slope
+
+
+def test_table_provider_reads_build_attributes_not_profiles(small_table):
+    """Issue 15: the flange angle and E, nu, r0, load come from attributes written at build
+    time (S1002's flange flank: 70 deg = 1.2217 rad to within the profile's tabulation)."""
+    from lutmpi.commands.simulate import params_from_table
+
+    table = Table.open(small_table[1])
+    assert math.degrees(table.attribute("wheel_flange_angle")) == pytest.approx(70.0, abs=0.1)
+    assert TableProvider(table).flange_angle >= table.attribute("wheel_flange_angle")
+    p = params_from_table(table)
+    assert (p.r0, p.young, p.poisson) == (0.46, 206e9, 0.3)
 
 
 def test_simulate_command_on_a_real_table(small_table, tmp_path):

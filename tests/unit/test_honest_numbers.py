@@ -94,6 +94,11 @@ def test_report_never_integrates_across_failed_poses(tmp_path, monkeypatch):
     ind = np.genfromtxt(rep / "indices.csv", delimiter=",", names=True, dtype=None,
                         encoding="utf-8")
     assert np.all(np.isnan(ind["tan_gamma_e_4mm"])) and np.allclose(ind["tan_gamma_e_2mm"], 0.05)
+    # one row per member against its parameter, one plot per index
+    assert ind.dtype.names[1] == "wearwheelflange_thinning_mm"   # genfromtxt drops the dots
+    np.testing.assert_allclose(ind["wearwheelflange_thinning_mm"], [0.0, 1.0, 2.0])
+    for name in ("tan_gamma_e", "rolling_radii_coeff", "nonlinearity_parameter"):
+        assert (rep / f"index_{name}.png").stat().st_size > 5000
 
 
 # -- "conicity refuses a Δr with holes inside the amplitude range (naming the y)" ---------------

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from lutmpi.table import interp
+from lutmpi.table.schema import D
 
 Y_AXIS = np.linspace(-9e-3, 9e-3, 7)       # 3 mm cells
 YAW_AXIS = np.linspace(-0.12, 0.12, 5)     # 0.06 rad cells
@@ -27,6 +28,6 @@ CODES = (10 * np.arange(7)[:, None] + np.arange(5)[None, :]).astype(np.int8)   #
 def test_nearest_node_by_half_cells(fy, fa, i, j):
     y = Y_AXIS[2] + fy * (Y_AXIS[3] - Y_AXIS[2])
     yaw = YAW_AXIS[1] + fa * (YAW_AXIS[2] - YAW_AXIS[1])
-    st = interp.stencil(Y_AXIS, YAW_AXIS, y, yaw)
-    got = interp.nearest(CODES, st)
+    ip = interp.build(Y_AXIS, YAW_AXIS, {D.status: CODES})      # integers: "nearest" mode
+    got = ip.evaluate(np.array([y]), np.array([yaw]))[0][0, 0]
     assert int(got) == 10 * i + j

@@ -2,10 +2,11 @@
 evaluations and ``equilibrium.max_pose_time_s`` a wall-time budget; a pose that runs out is
 stored with its own status and the build moves on.
 
-The pose is the slowest one found before the budgets existed (103 s of ``max_distance`` on one
+The pose was the slowest one found before the budgets existed (103 s of ``max_distance`` on one
 core): the measured ``avg_wheel.whl`` on UIC60 1:40 with 0.1 mm meshes and 0.001 mm allowed
 indentation at y = -8.4 mm, yaw = -0.036 rad, where the mesh indentation jumps and the bracketing
-never settles.
+never settled. Since the rigid start is the stable root (issue 10) it converges in 6 contact
+evaluations (0.04 s): the budgets below are set tighter than that, so they still bind.
 """
 
 from __future__ import annotations
@@ -54,27 +55,25 @@ def slow_scene(tmp_path, equilibrium: str) -> Scene:
 
 
 def test_iteration_budget_is_hard(tmp_path):
-    scene = slow_scene(tmp_path, "max_iterations = 120")
+    scene = slow_scene(tmp_path, "max_iterations = 3")  # the pose needs 6 evaluations
     res = solve_pose(scene, Y, YAW)
     assert res.status == MAX_ITER and not res.success
     assert res.message == STATUS[MAX_ITER]
-    assert res.nit == 120  # the budget is used up, never exceeded
+    assert res.nit == 3  # the budget is used up, never exceeded
     assert np.isfinite(res.z_g) and np.isfinite(res.roll)  # the last evaluated pose
 
 
-@pytest.mark.slow
-def test_default_budget_ends_the_slowest_pose(tmp_path):
-    # the default budgets (2000 evaluations, 60 s): ends after ~27 s on one core with status
-    # max_iterations (was 103 s before the budgets)
+def test_default_budget_leaves_the_formerly_slowest_pose_alone(tmp_path):
+    # the default budgets (2000 evaluations, 60 s): the pose that once ran out of them (the
+    # unstable rigid root as its start) converges from the stable root (issue 10)
     scene = slow_scene(tmp_path, "")
     t0 = time.perf_counter()
     res = solve_pose(scene, Y, YAW)
-    assert res.status == MAX_ITER
-    assert res.nit == scene.equilibrium.max_iterations == 2000
+    assert res.status == 0 and res.nit <= 20
     assert time.perf_counter() - t0 < scene.equilibrium.max_pose_time
 
 
-@pytest.mark.parametrize("budget", [0.3, 1.0])
+@pytest.mark.parametrize("budget", [0.001, 0.002])  # below one contact evaluation (~2-7 ms)
 def test_time_budget(tmp_path, budget):
     scene = slow_scene(tmp_path, f"max_iterations = 100000\nmax_pose_time_s = {budget}")
     t0 = time.perf_counter()
@@ -99,14 +98,13 @@ def test_build_stores_the_status_and_moves_on(tmp_path):
     from lutmpi.parallel.runner import build_table
     from lutmpi.table import Table
 
-    cfg = slow_config(tmp_path, "max_pose_time_s = 0.3",
+    cfg = slow_config(tmp_path, "max_iterations = 3",
                       "[grid]\ny_mm = [-8.4, 0.0, 2]\nyaw_rad = [-0.036, 0.0, 2]")
     summary = build_table(cfg, tmp_path / "t.h5")
     assert summary.computed == 4
     t = Table.open(tmp_path / "t.h5")
-    # the slow pose ran out of its 2000 evaluations or its 0.3 s, whichever came first; the
-    # centred poses converged
+    # the flange pose ran out of its 3 evaluations; the centred poses converged in 2
     status = t.get("status", raw=True)
     assert int(status[0, 0]) in (MAX_ITER, TIME_BUDGET)
     assert status[1].tolist() == [0, 0]  # y = 0: converged
-    assert int(t.get("iterations", raw=True).max()) <= 2000
+    assert int(t.get("iterations", raw=True).max()) <= 3

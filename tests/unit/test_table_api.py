@@ -55,12 +55,18 @@ def test_interp_reproduces_nodes_and_is_linear_between(table):
     assert table.interp(ys, 0.0, method="reference")["roll"] == pytest.approx(0.99 * 0.05 * ys)
 
 
-def test_outside_policies(table):
-    clip = table.interp(0.05, 0.0, quantities=["roll"])["roll"]
-    assert clip == pytest.approx(0.05 * 9e-3)
-    assert np.isnan(table.interp([0.05, 0.0], 0.0, quantities=["roll"], outside="nan")["roll"][0])
+def test_outside_the_grid_raises_or_is_flagged_never_clipped(table):
+    """Issue 11: a query outside the grid is an error, or NaN with an explicit flag."""
     with pytest.raises(ValueError, match="outside the table grid"):
-        table.interp(0.0, 0.2, outside="raise")
+        table.interp(0.05, 0.0, quantities=["roll"])
+    with pytest.raises(ValueError, match="outside the table grid"):
+        table.interp(0.0, 0.2)
+    q = table.interp([0.05, 0.0, np.nan], 0.0, quantities=["roll", "status"], outside="flag")
+    assert q["out_of_range"].tolist() == [True, False, True]
+    assert np.isnan(q["roll"][0]) and np.isnan(q["roll"][2]) and q["status"][0] == -1
+    assert q["roll"][1] == pytest.approx(0.0, abs=1e-15)
+    with pytest.raises(ValueError, match="never clips"):
+        table.interp(0.0, 0.0, outside="clip")
 
 
 def test_failed_points_are_nan_and_spread_only_with_weight(table):

@@ -97,3 +97,19 @@ def test_en15302_case_recognised_from_the_profiles():
     assert en15302_case(e2) == "E2"
     assert en15302_case(e2.replace("460.0", "459.0")) is None       # 918 mm: not E2
     assert en15302_case('[wheel]\ngenerator = "S1002"\n[rail]\ngenerator = "UIC60"\n') is None
+    # per-side wheels (E9: A right, B left; E5: 918 mm on the left)
+    e9 = ('[wheel.right]\nprofile = "/x/RUIC519A.dat"\n[wheel.left]\nprofile = "/x/RUIC519B.dat"\n'
+          '[rail]\nprofile = "/x/SUIC519A.dat"\n')
+    assert en15302_case(e9) == "E9"
+    e5 = e9.replace("RUIC519B", "RUIC519A").replace('[rail]', 'nominal_radius_mm = 459.0\n[rail]')
+    assert en15302_case(e5) == "E5"
+
+
+def test_pair_title_names_each_side_when_they_differ():
+    from lutmpi.reports.pair import pair_info
+
+    text = ('[wheel.right]\nprofile = "/x/RUIC519A.dat"\n'
+            '[wheel.left]\nprofile = "/x/RUIC519B.dat"\n'
+            '[rail]\nprofile = "/x/SUIC519A.dat"\ninclination = "none"\n')
+    info = pair_info(text)
+    assert info.title.startswith("RUIC519B (left) | RUIC519A (right) / SUIC519A as given")

@@ -71,6 +71,8 @@ def _interrupted(cfg, out, points: int) -> np.ndarray:
 def test_resume_reuses_exactly_the_journaled_points(cfg, fresh, tmp_path):
     out = tmp_path / "t.h5"
     _interrupted(cfg, out, 6)
+    with pytest.raises(TableError, match=r"incomplete .* 6 of 15 points are journaled"):
+        read_table(tmp_path / "t.h5.partial")        # what `lutmpi inspect` says of it
     summary = _build(cfg, out, resume=True)
     assert (summary.reused, summary.computed) == (6, N - 6)
     assert differences(fresh, out) == []
@@ -105,9 +107,10 @@ def test_journal_of_other_inputs_fails_every_check(cfg, tmp_path):
     fields = select_fields(cfg.output.quantities)
     dtype = journal.record_dtype(cfg.output.methods, fields)
     (path,) = journal.record_files(journal.journal_dir(out))
-    good, _ = journal.read_records(path, dtype, provenance.input_record(cfg)["sha256"], N)
+    good, ok = journal.read_records(path, dtype, provenance.input_record(cfg)["sha256"], N)
     other, report = journal.read_records(path, dtype, "0" * 64, N)
-    assert sum(len(a) for a in good) == 4 and other == [] and report.bad == 4
+    assert sum(len(a) for a in good) == 4 and (ok.good, ok.bad) == (4, 0)
+    assert other == [] and (report.good, report.bad) == (0, 4)
 
 
 def test_inputs_are_content_not_paths(tmp_path, repo_root):
@@ -133,7 +136,8 @@ def test_resume_with_a_changed_setting_is_refused_naming_it(cfg, tmp_path):
     _interrupted(cfg, out, 3)
     other = dataclasses.replace(cfg, equilibrium=dataclasses.replace(cfg.equilibrium,
                                                                      max_iterations=7))
-    with pytest.raises(TableError, match=r"equilibrium.max_iterations = 60 then, 7 now"):
+    was = cfg.equilibrium.max_iterations
+    with pytest.raises(TableError, match=rf"equilibrium.max_iterations = {was} then, 7 now"):
         _build(other, out, resume=True)
     assert len(journal.done_points(journal.journal_dir(out))) == 3      # nothing lost
     summary = _build(other, out, force=True)                           # recomputed on request
@@ -275,3 +279,11 @@ def test_commands_on_an_all_failed_table_are_clear_errors(fresh, tmp_path, capsy
     assert main(["conicity", str(bad)]) == 1
     err = capsys.readouterr().err
     assert "lutmpi conicity: error:" in err and "Traceback" not in err
+
+
+def test_kill_while_the_journal_was_being_created_resumes_afresh(cfg, fresh, tmp_path):
+    out = tmp_path / "t.h5"
+    journal.journal_dir(out).mkdir()          # mkdir done, header not yet written
+    summary = _build(cfg, out, resume=True)
+    assert (summary.computed, summary.reused) == (N, 0)
+    assert differences(fresh, out) == []

@@ -23,9 +23,9 @@ class RigidLocusMethod(ContactMethod):
             roll=rigid.roll, pitch=0.0, success=True, status=CONVERGED,
             message=STATUS[CONVERGED], nit=rigid.nit, indentation=0.0,
         )
-        rail = scene.rail
         rows, names = [], []
         for name, side in SIDE_SIGN.items():
+            rail = scene.side(name).rail
             for c in rigid.contacts[name]:
                 u = float(np.clip(c.u, rail.u_min, rail.u_max))
                 sl = float(rail.slope(u))

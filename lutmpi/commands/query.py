@@ -1,0 +1,95 @@
+"""``lutmpi query T.h5 --poses P.csv | --pose Y_MM YAW_RAD ... [--method M] -o OUT.csv``:
+interpolated poses from a table, in the columns and units of ``lutmpi solve`` (so the two files
+compare column by column), plus the side of the jumps and the distance to the nearest one."""
+
+from __future__ import annotations
+
+import logging
+import sys
+from typing import Any
+
+import numpy as np
+
+from lutmpi.errors import ConfigError
+
+log = logging.getLogger(__name__)
+
+#: the columns ``lutmpi query`` adds to :data:`lutmpi.contact.poses.COLUMNS`
+EXTRA_COLUMNS = ("out_of_range", "jump_side", "jump_distance_mm")
+
+
+def register(subparsers: Any) -> None:
+    p = subparsers.add_parser(
+        "query", help="interpolate a table at given poses (CSV, the columns of `solve`)",
+        description="Interpolate a lookup table at poses (y_g in mm, yaw in rad), never across a "
+                    "located contact jump, and write one CSV row per pose with the columns and "
+                    "units of `lutmpi solve` (every stored quantity, mm and deg), plus "
+                    "out_of_range (1: outside the grid, values empty), jump_side (number of "
+                    "jumps below the pose at its yaw; a pose "
+                    "exactly at a jump is on its upper side) and jump_distance_mm (signed "
+                    "distance to the nearest jump). Exit status 1 when any pose is outside.")
+    p.add_argument("table", help="lookup table (HDF5)")
+    p.add_argument("--poses", help="CSV file with columns y_mm,yaw_rad")
+    p.add_argument("--pose", nargs=2, action="append", metavar=("Y_MM", "YAW_RAD"), type=float,
+                   default=[], help="one pose (repeatable)")
+    p.add_argument("--method", help="contact method group (default: the table's first)")
+    p.add_argument("-o", "--output", default="-", help="output CSV (default: standard output)")
+    p.set_defaults(func=run)
+
+
+def query_rows(table: Any, poses: list[tuple[float, float]], method: str | None = None
+               ) -> tuple[list[str], list[list[Any]]]:
+    """Header and rows of ``lutmpi solve``'s CSV (``y_mm, yaw_rad, method, message``, the
+    schema's columns in mm/deg, ``status_text``) plus :data:`EXTRA_COLUMNS`, for poses (m, rad).
+    """
+    from lutmpi.equilibrium.result import STATUS
+    from lutmpi.export.csv_format import record_cells, status_text
+    from lutmpi.table.schema import D
+
+    method = method or table.methods[0]
+    y = np.array([p[0] for p in poses], float)
+    yaw = np.array([p[1] for p in poses], float)
+    q = table.interp(y, yaw, method, outside="flag", info=True)
+    names = [n for n in table.quantities if n in q]
+    header: list[str] = []
+    rows = []
+    for k in range(len(poses)):
+        record = {n: q[n][k] for n in names}
+        cols, values = record_cells(record)
+        code = int(q[D.status][k])
+        outside = bool(q["out_of_range"][k])
+        message = "outside the table grid" if outside else STATUS.get(code, str(code))
+        header = (["y_mm", "yaw_rad", "method", "message"] + cols + ["status_text"]
+                  + list(EXTRA_COLUMNS))
+        rows.append([y[k] * 1e3, yaw[k], method, message] + values
+                    + ["outside" if outside else status_text(code), int(outside),
+                       int(q["jump_side"][k]), float(q["jump_distance"][k]) * 1e3])
+    return header, rows
+
+
+def run(args: Any) -> int:
+    from lutmpi.contact.poses import read_poses
+    from lutmpi.table import Table
+
+    poses = read_poses(args.poses) if args.poses else []
+    poses += [(y * 1e-3, yaw) for y, yaw in args.pose]
+    if not poses:
+        raise ConfigError("no poses: give --poses FILE.csv or --pose Y_MM YAW_RAD")
+    from lutmpi.export.csv_format import write_rows
+
+    table = Table.open(args.table)
+    header, rows = query_rows(table, poses, args.method)
+    if args.output == "-":
+        write_rows(sys.stdout, header, rows)
+    else:
+        with open(args.output, "w", newline="") as fh:
+            write_rows(fh, header, rows)
+    flag = header.index("out_of_range")
+    outside = [r for r in rows if r[flag]]
+    if outside:
+        log.error("%d of %d poses outside the table grid (first: y = %.4f mm, yaw = %.5f rad); "
+                  "their rows are flagged out_of_range = 1", len(outside), len(rows),
+                  outside[0][0], outside[0][1])
+        return 1
+    log.info("%d poses interpolated", len(rows))
+    return 0

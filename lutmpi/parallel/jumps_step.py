@@ -1,0 +1,113 @@
+"""The post-build step of a table: locate its contact jumps and store them, with the
+attributes the dynamics reads (issues 11 and 15).
+
+Runs on every rank once the grid is complete and written (one call from
+:func:`lutmpi.parallel.runner.build_table`). Each rank holds its row block; the blocks are shared
+(the table is small next to the solves), every rank lists the same candidate cells, refines a
+cyclic share of them with direct solves (:func:`lutmpi.table.jumps.refine_cell`, pure), and the
+found jumps are gathered in cell order: the result is the same for any number of ranks.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import time
+from typing import Any
+
+import numpy as np
+
+from lutmpi.parallel import partition
+from lutmpi.table import h5io
+from lutmpi.table import interp as _interp
+from lutmpi.table import jumps as _jumps
+from lutmpi.table.compute import pose_to_record
+from lutmpi.table.schema import limit_fields
+
+log = logging.getLogger(__name__)
+
+
+def _all_rows(comm: Any, row_start: int, blocks: dict[str, dict[str, np.ndarray]]
+              ) -> dict[str, dict[str, np.ndarray]]:
+    """Every rank's row blocks joined into the full arrays, on every rank."""
+    parts = comm.bcast(comm.gather((row_start, blocks), root=0), root=0)
+    parts = sorted(parts, key=lambda p: p[0])
+    return {m: {k: np.concatenate([p[1][m][k] for p in parts], axis=0) for k in blocks[m]}
+            for m in blocks}
+
+
+def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
+              methods: tuple[str, ...], fields: Any, f: Any, io: Any, row_start: int,
+              blocks: dict[str, dict[str, np.ndarray]]) -> None:
+    """Locate, refine and write the jumps of every method, and the dynamics attributes.
+
+    Parameters
+    ----------
+    comm : communicator (or :class:`lutmpi.parallel.runner.SelfComm`)
+    grid, config, scene, solver, methods, fields
+        As in the build.
+    f : h5py.File
+        The open partial file (collective with several ranks).
+    io : lutmpi.table.h5io.SerialH5
+        The writer's HDF5 strategy.
+    row_start, blocks
+        This rank's complete row block (method -> name -> array).
+    """
+    from lutmpi.scene import load_scene_profiles
+    from lutmpi.table.api import mask_failed
+
+    t0 = time.perf_counter()
+    full = _all_rows(comm, row_start, blocks)
+    lfields = limit_fields(fields)
+    for method in methods:
+        t_method = time.perf_counter()
+        arrays = full[method]
+
+        def solve(y: float, yaw: float, method: str = method) -> dict[str, np.ndarray]:
+            return pose_to_record(solver(scene, y, yaw, method), lfields)
+
+        js, n_cells = _locate(comm, grid, arrays, solve, lfields, config.output.refine)
+        modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
+                                     mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
+        h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
+            "interpolants": json.dumps(modes), "candidate_m": _jumps.CANDIDATE_M,
+            "confirm_m": _jumps.CONFIRM_M, "tol_m": _jumps.TOL_M,
+            "refine_tol": json.dumps(_jumps.REFINE_TOL), "min_width_m": _jumps.MIN_WIDTH_M,
+            # the same value on every rank (collective metadata): rank 0's
+            "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
+        if comm.rank == 0:
+            log.info("%s: %d candidate cells, %d jumps located (per yaw: max %d), %d extra knots; "
+                     "interpolants %s", method, n_cells, int(js.count.sum()),
+                     int(js.count.max(initial=0)), int(np.isfinite(js.knot_y).sum()),
+                     {k: v for k, v in modes.items() if v != "linear"} or "all linear")
+    wheel, _ = load_scene_profiles(config)
+    h5io.write_root_attributes(f, _jumps.dynamics_attributes(config, wheel))
+    log.debug("jumps step %.2f s", time.perf_counter() - t0)
+
+
+def _share(comm: Any, items: list[Any], work: Any) -> list[Any]:
+    """``work(item)`` for a cyclic share of ``items`` on each rank; every rank gets all results
+    in item order."""
+    mine = partition.split(len(items), comm.size, comm.rank, "cyclic")
+    done = [(int(k), work(items[k])) for k in mine]
+    gathered = comm.bcast(comm.gather(done, root=0), root=0)
+    return [r for _, r in sorted((it for part in gathered for it in part), key=lambda it: it[0])]
+
+
+def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
+            refine: bool) -> tuple[_jumps.JumpSet, int]:
+    """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
+    interval, both shared among the ranks."""
+    cells = _jumps.candidate_cells(arrays)
+    res = _share(comm, cells, lambda c: _jumps.refine_cell(arrays, grid.y, grid.yaw, c, solve))
+    found = [jp for jps, _ in res for jp in jps]
+    extra = [(c[0], y, r) for c, (_, samples) in zip(cells, res, strict=True) for y, r in samples]
+    items = []
+    for j in range(grid.yaw.size if refine else 0):
+        knots = _jumps.column_knots(arrays, grid.y, j, found,
+                                    [(y, r) for jj, y, r in extra if jj == j])
+        items += [(j, knots[k], knots[k + 1]) for k in _jumps.refinement_items(knots)]
+    refined = _share(comm, items, lambda it: _jumps.refine_interval(
+        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve))
+    extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
+    return _jumps.assemble(found, extra, grid.yaw.size, fields), len(cells)

@@ -1,0 +1,141 @@
+"""The edge between the configuration and the pure code: :func:`scene_from_config` reads or
+generates the profiles a :class:`~lutmpi.config.model.Config` names (per side), applies its wear
+and reading options, and builds the typed, frozen :class:`~lutmpi.scene.Scene`. Nothing below
+this module sees the config."""
+
+from __future__ import annotations
+
+from lutmpi.config.model import SIDE_NAMES, Config
+from lutmpi.contact.stiffness import paper_flange_chi
+from lutmpi.equilibrium.solver import EquilibriumOptions
+from lutmpi.errors import ConfigError, ProfileError
+from lutmpi.profiles.model import Profile
+from lutmpi.profiles.options import ReadOptions
+from lutmpi.scene import Scene, SolveSettings
+
+
+def equilibrium_options(cfg: Config) -> EquilibriumOptions:
+    """The equilibrium numbers of ``cfg`` (SI)."""
+    e, c = cfg.equilibrium, cfg.contact
+    return EquilibriumOptions(
+        k_el=e.spring_N_per_m,
+        k_rot=e.torsion_spring_Nm_per_rad,
+        load=e.vertical_load_N,
+        kc0=e.initial_kc_N_per_m,
+        kc_max=e.max_kc_N_per_m,
+        allowed_indentation=c.allowed_indentation_mm * 1e-3,
+        max_iterations=e.max_iterations,
+        max_pose_time=e.max_pose_time_s,
+        solver=e.solver,
+        extrapolate=c.extrapolate,
+    )
+
+
+def solve_settings(cfg: Config) -> SolveSettings:
+    """The pose-solve settings of ``cfg``."""
+    c, m, f = cfg.contact, cfg.mesh, cfg.flange
+    return SolveSettings(
+        method=c.method,
+        max_contacts=c.max_contacts_per_wheel,
+        window=m.window,
+        window_gap=m.window_gap_mm * 1e-3,
+        flange=f.enabled,
+        chi=paper_flange_chi() if f.enabled else 1.0,
+        hold_roll=c.roll == "zero",
+    )
+
+
+def scene_from_config(cfg: Config) -> Scene:
+    """Load/generate the profiles of ``cfg`` for each side, apply its wear and reading options,
+    and build the scene. Sides whose resolved keys are equal share one profile (mirrored)."""
+    m = cfg.mesh
+    wheels, rails = side_profiles(cfg)
+    r0, d, inc, depth, gv = {}, {}, {}, {}, {}
+    for name in SIDE_NAMES:
+        wc, rc = cfg.wheel.side(name), cfg.rail.side(name)
+        r0[name] = wc.nominal_radius_m
+        d[name] = cfg.wheelset.tape_half_distance_m
+        inc[name] = rc.inclination_rad
+        depth[name] = (rc.gauge_depth_mm if rc.gauge_depth_mm is not None
+                       else cfg.track.gauge_depth_mm) * 1e-3
+        gv[name] = _gauge_v(rc.gauge_point, rails[name])
+    return Scene.from_profiles(
+        wheels, rails, r0=r0, tape_half_distance=d, inclination=inc,
+        gauge=cfg.track.gauge_mm * 1e-3, gauge_depth=depth, gauge_v=gv,
+        spacing=(
+            m.wheel_lateral_mm * 1e-3,
+            m.wheel_circumferential_mm * 1e-3,
+            m.rail_lateral_mm * 1e-3,
+            m.rail_longitudinal_mm * 1e-3,
+        ),
+        equilibrium=equilibrium_options(cfg),
+        settings=solve_settings(cfg),
+        flange_base_height=cfg.flange.base_height_mm * 1e-3,
+    )
+
+
+def _gauge_v(point: str | float, rail: Profile) -> float | None:
+    """The rail profile's lateral coordinate of an explicit gauge point (m), or None."""
+    if point == "depth":
+        return None
+    if point in ("first", "last"):
+        return rail.meta[f"file_{point}_point_mm"][0] * 1e-3
+    return float(point) * 1e-3
+
+
+def side_profiles(cfg: Config) -> tuple[dict[str, Profile], dict[str, Profile]]:
+    """The wheel and rail profile of each side (file or generator, reading options, wear);
+    equal resolved sections give the same object."""
+    cache: dict = {}
+    wheels, rails = {}, {}
+    for name in SIDE_NAMES:
+        for kind, sec, out in (("wheel", cfg.wheel, wheels), ("rail", cfg.rail, rails)):
+            res = sec.side(name)
+            wear = getattr(cfg.wear, kind).side(name)
+            key = (kind, res, wear)
+            if key not in cache:
+                cache[key] = _load(cfg, kind, res, wear, _source_key(sec, kind, name))
+            out[name] = cache[key]
+    return wheels, rails
+
+
+def _source_key(sec, kind: str, side: str) -> str:
+    own = getattr(sec, side)
+    return f"{kind}.{side}.profile" if own.profile is not None else f"{kind}.profile"
+
+
+def _load(cfg: Config, kind: str, sec, wear_cfg, key: str) -> Profile:
+    """One profile: generated, or read with the section's reading options; then the wear."""
+    from lutmpi.profiles import wear
+    from lutmpi.profiles.readers import read_profile
+    from lutmpi.profiles.standard import generate
+
+    if sec.generator:
+        prof = generate(sec.generator)
+    else:
+        opts = ReadOptions(flip_y=sec.flip_y, flip_z=sec.flip_z, offset_y_mm=sec.offset_y_mm,
+                           offset_z_mm=sec.offset_z_mm,
+                           origin=getattr(sec, "origin", "tape_circle"),
+                           tape_offset_mm=cfg.wheelset.tape_offset_mm)
+        try:
+            prof = read_profile(sec.profile, kind=kind, format=sec.format, options=opts)
+        except ProfileError as exc:
+            raise ConfigError(f"cannot read the {kind} profile: {exc}", key=key,
+                              path=None if cfg.path is None else str(cfg.path)) from None
+    if kind == "wheel":
+        if wear_cfg.flange_thinning_mm:
+            prof = wear.flange_thinning(prof, wear_cfg.flange_thinning_mm)
+        if wear_cfg.tread_hollowing_mm:
+            prof = wear.tread_hollowing(prof, wear_cfg.tread_hollowing_mm)
+    else:
+        if wear_cfg.vertical_mm:
+            prof = wear.rail_vertical_wear(prof, wear_cfg.vertical_mm)
+        if wear_cfg.side_mm:
+            prof = wear.rail_side_wear(prof, wear_cfg.side_mm)
+    return prof
+
+
+def load_scene_profiles(cfg: Config) -> tuple[Profile, Profile]:
+    """The left wheel and left rail profiles of a config (the right ones: :func:`side_profiles`)."""
+    wheels, rails = side_profiles(cfg)
+    return wheels["left"], rails["left"]

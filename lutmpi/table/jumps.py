@@ -1,0 +1,412 @@
+"""Contact jumps of a table, located and stored as data (issue 11). Pure: numpy only.
+
+Along y, at fixed yaw, the contact of a wheel can jump: the contact point leaves the tread for the
+flange (the rigid contact is the lowest of several gap minima, and the lowest changes), a second
+contact appears or disappears, or the solve stops converging. Every continuous interpolant errs by
+about half the jump next to it, whatever the step, so the jumps are located and interpolation never
+crosses them (:mod:`lutmpi.table.interp`).
+
+Algorithm, per yaw column and per grid cell ``[y_i, y_i+1]``:
+
+1. *Candidate*: the two end states differ in a discrete key (status, contacts per wheel) or the
+   primary contact point of a wheel moves by more than :data:`CANDIDATE_M` (wheel ``s`` or rail
+   ``v``) between them.
+2. *Bisection* with direct pose solves: the midpoint state joins the end it is closer to (a
+   discrete mismatch counts more than any movement), until the bracket ``[lo, hi]`` is at most
+   :data:`TOL_M` wide; the jump lies at its middle, within ``TOL_M / 2``.
+3. *Confirmation*: a bracket whose ends still differ discretely, or whose contact point still moves
+   by more than :data:`CONFIRM_M`, is a jump; otherwise the cell was merely steep (the contact
+   moving fast but continuously), and nothing is stored.
+4. The two sub-intervals left of ``lo`` and right of ``hi`` are searched again (a cell can hold
+   several jumps: the second contact of a double contact appears, takes the larger force, goes).
+
+5. *Refinement* (:func:`refine_interval`): between neighbouring knots of one piece (grid nodes,
+   bisection samples, bracket ends) the midpoint is solved; where the straight line through the two
+   knots misses it by more than :data:`REFINE_TOL` (rolling radius, contact angle, z_g, roll),
+   both halves are refined again, down to :data:`MIN_WIDTH_M`, as long as the miss keeps
+   falling (:data:`REFINE_GAIN`; solver noise does not fall, so noise is not chased). Every
+   pose solved after the build is kept as an extra knot of its column: the table is the grid
+   plus what the jumps and the curvature of the contact needed.
+
+The states at ``lo`` and ``hi`` are full pose records: the one-sided limits of every stored
+quantity. Everything depends only on the table and the solver, never on who solved what, so the
+result is the same for any number of ranks (:func:`refine_cells` takes any subset of cells).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from lutmpi.table.schema import JUMP_FIELDS, D, Field
+
+#: primary contact point movement (m) between neighbours that makes a cell a candidate
+CANDIDATE_M = 2e-3
+#: movement (m) still left across a refined bracket that confirms a contact-point jump
+CONFIRM_M = 0.5e-3
+#: width (m) of a refined bracket: the jump is located within +-TOL_M / 2
+TOL_M = 5e-6
+#: most jumps searched in one grid cell
+MAX_PER_CELL = 4
+#: refinement: largest miss of the straight line at an interval's midpoint, per checked quantity
+#: (m, rad, m, rad); refined below, down to intervals of MIN_WIDTH_M
+REFINE_TOL = {D.rolling_radius: 1e-6, D.contact_angle: 1e-4, D.z_g: 2e-6, D.roll: 2e-5}
+MIN_WIDTH_M = 1e-6
+#: a child interval is refined further only if its miss fell below this fraction of its parent's
+#: (a smooth function: 1/4 per halving, a kink: 1/2, a square-root onset next to a jump: 0.71;
+#: solver noise does not fall: stop there)
+REFINE_GAIN = 0.8
+
+Record = dict[str, np.ndarray]
+PoseSolver = Callable[[float, float], Record]
+
+
+@dataclass(frozen=True)
+class Jump:
+    """One located jump at one yaw.
+
+    Attributes
+    ----------
+    iyaw : int
+        Yaw column.
+    lo, hi : float
+        Bracket ends (m): solved poses on either side, ``hi - lo <= TOL_M``.
+    rec_lo, rec_hi : dict
+        The pose records at ``lo`` and ``hi`` (schema field name -> array).
+    kind, side : int
+        Bit masks (:data:`lutmpi.table.schema.JUMP_KIND_BITS`, ``JUMP_SIDE_BITS``).
+    """
+
+    iyaw: int
+    lo: float
+    hi: float
+    rec_lo: Record
+    rec_hi: Record
+    kind: int
+    side: int
+
+    @property
+    def y(self) -> float:
+        """Located position, the bracket's middle, m."""
+        return 0.5 * (self.lo + self.hi)
+
+
+def _keys(rec: Record) -> tuple[tuple[int, ...], np.ndarray]:
+    """Discrete key (status, contacts per wheel) and the primary contact coordinates per wheel
+    (wheel s, rail v; shape (2, 2), m) of a record."""
+    disc = (int(rec[D.status]),)
+    if D.n_contacts in rec:
+        disc += tuple(int(v) for v in np.asarray(rec[D.n_contacts]).ravel())
+    cols = [np.asarray(rec[n], float)[:, 0] for n in (D.wheel_s, D.rail_v) if n in rec]
+    cont = np.stack(cols, axis=1) if cols else np.zeros((2, 0))
+    return disc, cont
+
+
+def _movement(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Per wheel: largest movement of the primary contact (m); inf where it exists on one side
+    only."""
+    fa, fb = np.isfinite(a), np.isfinite(b)
+    d = np.where(fa & fb, np.abs(a - b), np.where(fa ^ fb, np.inf, 0.0))
+    return d.max(axis=1) if d.shape[1] else np.zeros(d.shape[0])
+
+
+def _distance(ka: tuple, kb: tuple) -> float:
+    """Dissimilarity of two states: 10 per discrete mismatch plus the contact movement (m)."""
+    mism = sum(x != y for x, y in zip(ka[0], kb[0], strict=True))
+    move = _movement(ka[1], kb[1])
+    return 10.0 * mism + float(np.minimum(move, 1.0).max(initial=0.0))
+
+
+def classify(ka: tuple, kb: tuple, threshold: float) -> tuple[int, int]:
+    """``(kind, side)`` bit masks of the change between two states (0, 0 when none counts)."""
+    kind = side = 0
+    if ka[0][0] != kb[0][0]:
+        kind |= 4
+        side |= 3
+    for s in range(2):
+        if len(ka[0]) > 1 + s and ka[0][1 + s] != kb[0][1 + s]:
+            kind |= 2
+            side |= 1 << s
+    move = _movement(ka[1], kb[1])
+    for s in range(2):
+        if move[s] > threshold:
+            kind |= 1
+            side |= 1 << s
+    return kind, side
+
+
+def candidate_cells(arrays: dict[str, np.ndarray], threshold: float = CANDIDATE_M,
+                    ) -> list[tuple[int, int]]:
+    """Grid cells ``(iyaw, iy)`` (between ``iy`` and ``iy + 1``) that may hold a jump, in a fixed
+    order (yaw column, then y).
+
+    Parameters
+    ----------
+    arrays : dict
+        The table's raw arrays of one method (name -> ``(ny, nyaw, *suffix)``); ``status`` and,
+        when stored, ``n_contacts``, ``wheel_s``, ``rail_v`` are used.
+    threshold : float
+        Primary contact point movement that makes a cell a candidate, m.
+    """
+    ny, nyaw = arrays[D.status].shape
+    out = []
+    for j in range(nyaw):
+        keys = [_keys(_node(arrays, i, j)) for i in range(ny)]
+        for i in range(ny - 1):
+            if classify(keys[i], keys[i + 1], threshold)[0]:
+                out.append((j, i))
+    return out
+
+
+def _node(arrays: dict[str, np.ndarray], i: int, j: int) -> Record:
+    return {name: np.asarray(arr[i, j]) for name, arr in arrays.items()}
+
+
+def refine_cell(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.ndarray,
+                cell: tuple[int, int], solve: PoseSolver, *, tol: float = TOL_M,
+                threshold: float = CANDIDATE_M, confirm: float = CONFIRM_M) -> list[Jump]:
+    """Locate the jumps of one candidate cell by bisection with direct solves.
+
+    Parameters
+    ----------
+    arrays : dict
+        Raw table arrays of one method.
+    y_axis, yaw_axis : ndarray
+        Grid axes, m and rad.
+    cell : (int, int)
+        ``(iyaw, iy)`` from :func:`candidate_cells`.
+    solve : callable
+        ``solve(y, yaw) -> record`` (schema field name -> array), the table's own method.
+    tol, threshold, confirm : float
+        Bracket width, candidate and confirmation movements, m.
+
+    Returns
+    -------
+    jumps : list of Jump
+        Sorted by y (empty when the cell was only steep).
+    samples : list of (float, dict)
+        Every pose solved, ``(y, record)``.
+    """
+    j, i = cell
+    yaw = float(yaw_axis[j])
+    lo, hi = float(y_axis[i]), float(y_axis[i + 1])
+    samples: list[tuple[float, Record]] = []
+
+    def sampled(y: float) -> Record:
+        rec = solve(y, yaw)
+        samples.append((y, rec))
+        return rec
+
+    found = _search(lo, _node(arrays, i, j), hi, _node(arrays, i + 1, j), sampled, j, tol,
+                    threshold, confirm, MAX_PER_CELL)
+    return found, samples
+
+
+def _search(lo: float, rlo: Record, hi: float, rhi: Record, solve: Callable[[float], Record],
+            j: int, tol: float, threshold: float, confirm: float, budget: int) -> list[Jump]:
+    klo, khi = _keys(rlo), _keys(rhi)
+    if budget <= 0 or not classify(klo, khi, threshold)[0]:
+        return []
+    a, ra, ka, b, rb, kb = lo, rlo, klo, hi, rhi, khi
+    while b - a > tol:
+        m = a + 0.5 * (b - a)
+        rm = solve(m)
+        km = _keys(rm)
+        if _distance(km, ka) <= _distance(km, kb):
+            a, ra, ka = m, rm, km
+        else:
+            b, rb, kb = m, rm, km
+    kind, side = classify(ka, kb, confirm)
+    if not kind:
+        return []
+    found = Jump(j, a, b, ra, rb, kind, side)
+    left = _search(lo, rlo, a, ra, solve, j, tol, threshold, confirm, budget - 1)
+    right = _search(b, rb, hi, rhi, solve, j, tol, threshold, confirm,
+                    budget - 1 - len(left))
+    return left + [found] + right
+
+
+def _miss(r0: Record, r1: Record, rm: Record) -> float:
+    """Largest miss of the straight line between two records at their midpoint record, in
+    units of :data:`REFINE_TOL` (NaN-safe: a quantity missing anywhere is not checked)."""
+    worst = 0.0
+    for name, tol in REFINE_TOL.items():
+        if name not in rm:
+            continue
+        a, b, m = (np.asarray(r[name], float) for r in (r0, r1, rm))
+        if a.ndim:                       # per contact: the primary contact of each wheel
+            a, b, m = a[:, 0], b[:, 0], m[:, 0]
+        d = np.abs(0.5 * (a + b) - m)
+        d = d[np.isfinite(d)]
+        if d.size:
+            worst = max(worst, float(d.max()) / tol)
+    return worst
+
+
+def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, solve: PoseSolver,
+                    min_width: float = MIN_WIDTH_M, parent: float = math.inf
+                    ) -> list[tuple[float, Record]]:
+    """Midpoint solves of one interval of a piece, recursively where the straight line misses
+    the midpoint by more than :data:`REFINE_TOL`.
+
+    A midpoint whose discrete state (status, contact count) differs from an end is dropped and
+    not refined further: a jump the grid-level search did not see (two changes that cancel in
+    one cell); the interval keeps its two knots.
+
+    Returns
+    -------
+    list of (float, dict)
+        The solved poses ``(y, record)`` kept as knots.
+    """
+    if x1 - x0 < 2 * min_width:
+        return []
+    xm = x0 + 0.5 * (x1 - x0)
+    rm = solve(xm, yaw)
+    km = _keys(rm)[0]
+    if km != _keys(r0)[0] or km != _keys(r1)[0]:
+        return []
+    out = [(xm, rm)]
+    miss = _miss(r0, r1, rm)
+    if miss > 1.0 and miss < REFINE_GAIN * parent:
+        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, miss) + out
+               + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, miss))
+    return out
+
+
+def column_knots(arrays: dict[str, np.ndarray], y_axis: np.ndarray, j: int,
+                 jumps: Sequence[Jump], samples: Sequence[tuple[float, Record]]
+                 ) -> list[tuple[float, Record, int]]:
+    """The knots of column ``j`` sorted by y: ``(y, record, piece)`` for grid nodes, samples and
+    bracket ends (samples strictly inside a bracket are dropped)."""
+    col = sorted((jp for jp in jumps if jp.iyaw == j), key=lambda jp: jp.lo)
+    pts = [(float(y_axis[i]), _node(arrays, i, j)) for i in range(y_axis.size)]
+    pts += [(y, r) for y, r in samples]
+    pts += [(jp.lo, jp.rec_lo) for jp in col] + [(jp.hi, jp.rec_hi) for jp in col]
+    out, seen = [], set()
+    for y, r in sorted(pts, key=lambda p: p[0]):
+        if y in seen or any(jp.lo < y < jp.hi for jp in col):
+            continue
+        seen.add(y)
+        out.append((y, r, sum(jp.y <= y for jp in col)))
+    return out
+
+
+def refinement_items(knots: Sequence[tuple[float, Record, int]], min_width: float = MIN_WIDTH_M
+                     ) -> list[int]:
+    """Indices k of the knot pairs (k, k + 1) of one column that lie in one piece and are wide
+    enough to refine."""
+    return [k for k in range(len(knots) - 1)
+            if knots[k][2] == knots[k + 1][2] and knots[k + 1][0] - knots[k][0] >= 2 * min_width]
+
+
+@dataclass(frozen=True)
+class JumpSet:
+    """The jumps of one method as arrays (the layout of ``/<method>/jumps``).
+
+    Attributes
+    ----------
+    arrays : dict
+        :data:`lutmpi.table.schema.JUMP_FIELDS` name -> ``(nyaw, K)``.
+    limits : dict
+        Field name -> ``(nyaw, K, 2, *suffix)``: the records at ``jump_y_lo`` / ``jump_y_hi``.
+    knot_y : ndarray, (nyaw, E)
+        Extra knots (every pose solved after the build but the bracket ends), NaN padded.
+    knots : dict
+        Field name -> ``(nyaw, E, *suffix)``.
+    """
+
+    arrays: dict[str, np.ndarray]
+    limits: dict[str, np.ndarray]
+    knot_y: np.ndarray
+    knots: dict[str, np.ndarray]
+
+    @property
+    def count(self) -> np.ndarray:
+        """Jumps per yaw column, (nyaw,)."""
+        return np.isfinite(self.arrays["jump_y"]).sum(axis=1)
+
+
+def assemble(jumps: Sequence[Jump], extra: Sequence[tuple[int, float, Record]], nyaw: int,
+             fields: Sequence[Field]) -> JumpSet:
+    """Arrange located jumps and extra knots ``(iyaw, y, record)`` into :class:`JumpSet` arrays
+    (sorted by y in each column; extra knots that are bracket ends are left out)."""
+    per = [sorted((jp for jp in jumps if jp.iyaw == j), key=lambda jp: jp.lo) for j in range(nyaw)]
+    k = max((len(p) for p in per), default=0)
+    arrays = {f.name: np.full((nyaw, k), np.nan if f.dtype.startswith("f") else 0, f.dtype)
+              for f in JUMP_FIELDS}
+    limits = {f.name: f.empty((nyaw, k, 2)) for f in fields}
+    for j, col in enumerate(per):
+        for n, jp in enumerate(col):
+            for name, value in (("jump_y", jp.y), ("jump_y_lo", jp.lo), ("jump_y_hi", jp.hi),
+                                ("jump_kind", jp.kind), ("jump_side", jp.side)):
+                arrays[name][j, n] = value
+            for f in fields:
+                limits[f.name][j, n, 0] = jp.rec_lo[f.name]
+                limits[f.name][j, n, 1] = jp.rec_hi[f.name]
+    ends = {(jp.iyaw, y) for jp in jumps for y in (jp.lo, jp.hi)}
+    cols: list[dict[float, Record]] = [{} for _ in range(nyaw)]
+    for j, y, rec in extra:
+        if (j, y) not in ends:
+            cols[j][y] = rec
+    e = max((len(c) for c in cols), default=0)
+    knot_y = np.full((nyaw, e), np.nan)
+    knots = {f.name: f.empty((nyaw, e)) for f in fields}
+    for j, col in enumerate(cols):
+        for n, y in enumerate(sorted(col)):
+            knot_y[j, n] = y
+            for f in fields:
+                knots[f.name][j, n] = col[y][f.name]
+    return JumpSet(arrays, limits, knot_y, knots)
+
+
+def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.ndarray,
+                 solve: PoseSolver, fields: Sequence[Field], *, refine: bool = True,
+                 **kw: Any) -> JumpSet:
+    """Every jump of one method of a table, and the refinement knots, serially (the steps the
+    build runs in parallel: :func:`candidate_cells`, :func:`refine_cell`, :func:`column_knots`,
+    :func:`refine_interval`, :func:`assemble`)."""
+    found: list[Jump] = []
+    extra: list[tuple[int, float, Record]] = []
+    for cell in candidate_cells(arrays, kw.get("threshold", CANDIDATE_M)):
+        jps, samples = refine_cell(arrays, y_axis, yaw_axis, cell, solve, **kw)
+        found += jps
+        extra += [(cell[0], y, r) for y, r in samples]
+    if refine:
+        for j in range(yaw_axis.size):
+            knots = column_knots(arrays, y_axis, j, found,
+                                 [(y, r) for jj, y, r in extra if jj == j])
+            for k in refinement_items(knots):
+                (x0, r0, _), (x1, r1, _) = knots[k], knots[k + 1]
+                extra += [(j, y, r) for y, r in
+                          refine_interval(x0, r0, x1, r1, float(yaw_axis[j]), solve)]
+    return assemble(found, extra, yaw_axis.size, fields)
+
+
+def wheel_flange_angle(wheel: Any) -> float:
+    """Steepest angle of a wheel profile's flange flank (rad), between the flange tip and the tape
+    circle (``s = 0``): the angle of Nadal's derailment limit.
+
+    Parameters
+    ----------
+    wheel : lutmpi.profiles.model.Profile
+        Wheel profile (``y_min``, ``z_at``, ``slope``; s in m, positive toward the field side).
+    """
+    s = np.linspace(wheel.y_min, 0.0, 4000)
+    tip = s[int(np.argmax(wheel.z_at(s)))]
+    flank = np.linspace(tip, 0.0, 4000)
+    return float(np.arctan(np.max(-wheel.slope(flank))))
+
+
+def dynamics_attributes(config: Any, wheel: Any) -> dict[str, float]:
+    """What the dynamics reads from a table (:data:`lutmpi.table.schema.DYNAMICS_ATTRIBUTES`),
+    SI, from the resolved config and the (worn) wheel profile it was built with."""
+    out = {"wheel_flange_angle": wheel_flange_angle(wheel),
+           "young_modulus": config.material.young_GPa * 1e9,
+           "poisson_ratio": float(config.material.poisson),
+           "nominal_radius": config.wheel.nominal_radius_mm * 1e-3,
+           "vertical_load": float(config.equilibrium.vertical_load_N)}
+    return out

@@ -1,0 +1,233 @@
+"""Issue 10: the rigid-contact search finds every root over the admissible roll range, picks the
+stable one of lowest z_g, stores how many there were, and flags contacts on the end of a
+profile's data.
+
+Oracles: synthetic height mismatches with known roots (the bracket finder), and an independent
+brute-force planar computation at yaw 0 that uses only the placed geometry
+(``WheelGeometry.radius``, ``PlacedRail.height``): the height of G at which each wheel touches,
+``z_side(roll) = max_s [rail(u(s)) - z_wheel(s)]`` on a dense grid of s and roll. The wheelset
+under its load sits at ``F(roll) = max(z_left, z_right)``; the stable root of lowest z_g is the
+global minimum of F, the roots are the sign changes of ``z_left - z_right``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lutmpi.contact.locus import find_brackets
+from lutmpi.contact.solve import solve_pose
+from lutmpi.equilibrium.result import CONVERGED, NO_CONTACT, PROFILE_END
+from lutmpi.equilibrium.solver import EquilibriumOptions
+from lutmpi.profiles import read_profile
+from lutmpi.profiles.model import Profile
+from lutmpi.profiles.standard import s1002, uic60
+from lutmpi.profiles.wear import flange_thinning
+from lutmpi.scene import Scene, SolveSettings
+
+MM = 1e-3
+PROFILES = Path(__file__).resolve().parents[2] / "profiles"
+GRID = np.linspace(-0.05, 0.05, 201)  # the solver's scan step, 0.5 mrad
+
+
+# -- the bracket finder on synthetic mismatches ----------------------------------------------
+def _roots(br):
+    return [0.5 * (a + b) for a, b, _ in br]
+
+
+def test_asymmetric_bracket_nan_on_one_side():
+    # h is NaN for roll < -0.01 (a wheel misses its rail there); one root at +0.013
+    br = find_brackets(GRID, lambda r: np.where(r < -0.01, np.nan, -1.5 * (r - 0.013)))
+    assert len(br) == 1 and br[0][0] <= 0.013 <= br[0][1] and br[0][2]
+
+
+def test_root_between_scan_point_and_nan_range():
+    # the only root, 0.3 mrad before h turns NaN at 0.0203 (between two scan points)
+    br = find_brackets(GRID, lambda r: np.where(r > 0.0203, np.nan, -1.5 * (r - 0.0200)))
+    assert len(br) == 1 and br[0][0] <= 0.0200 <= br[0][1]
+
+
+def test_three_roots_with_stability():
+    # cubic with roots 2.0, 3.1, 9.2 mrad, falling through the outer two (stable)
+    br = find_brackets(GRID, lambda r: -1e5 * (r - 0.002) * (r - 0.0031) * (r - 0.0092))
+    assert [b[2] for b in br] == [True, False, True]
+    assert np.allclose(_roots(br), [0.002, 0.0031, 0.0092], atol=5e-4)
+
+
+def test_two_roots_inside_one_scan_step():
+    # roots at 3.10 and 3.30 mrad: both scan points around them see the same sign
+    br = find_brackets(GRID, lambda r: 1e3 * (r - 0.0031) * (r - 0.0033))
+    assert len(br) == 2 and [b[2] for b in br] == [True, False]
+    assert br[0][0] <= 0.0031 <= br[0][1] and br[1][0] <= 0.0033 <= br[1][1]
+
+
+# -- brute-force planar oracle (yaw 0) -------------------------------------------------------
+def _touch_heights(scene: Scene, y: float, rolls: np.ndarray, ds: float = 5e-5):
+    """z_left(roll), z_right(roll): heights of G at which each wheel touches its rail."""
+    out = []
+    for name, side in (("left", 1.0), ("right", -1.0)):
+        sd = scene.side(name)
+        w, rail = sd.wheel, sd.rail
+        s = np.arange(w.s_min, w.s_max, ds)
+        Y, Z = side * (w.d + s), -w.radius(s)
+        c, sn = np.cos(rolls)[:, None], np.sin(rolls)[:, None]
+        u = side * (y + c * Y - sn * Z)
+        zw = sn * Y + c * Z
+        ok = (u >= rail.u_min) & (u <= rail.u_max)
+        zr = np.where(ok, rail.height(np.clip(u, rail.u_min, rail.u_max)), -np.inf)
+        out.append(np.max(zr - zw, axis=1))
+    return out
+
+
+def _oracle(scene: Scene, y: float, half: float = 0.02, n: int = 4001):
+    rolls = np.linspace(-half, half, n)
+    zl, zr = _touch_heights(scene, y, rolls)
+    h = zl - zr
+    sign = np.nonzero(np.sign(h[:-1]) * np.sign(h[1:]) < 0)[0]
+    F = np.maximum(zl, zr)
+    k = int(np.argmin(F))
+    return rolls[sign], rolls[k], F[k]
+
+
+@pytest.fixture(scope="module")
+def thinned_scene():
+    # S1002 with 2 mm of flange thinning on UIC60 at 1:40: three rigid solutions at y = 8 mm
+    return Scene.from_profiles(flange_thinning(s1002(), 2.0), uic60(),
+                               inclination=math.atan(1 / 40))
+
+
+def test_three_rigid_roots_counted_and_the_lowest_stable_chosen(thinned_scene):
+    y = 8.0 * MM
+    rig = thinned_scene.locus.solve(y, 0.0)
+    roots, roll_min, z_min = _oracle(thinned_scene, y)
+    print(f"\noracle roots {np.round(roots * 1e3, 3)} mrad, min of F at {roll_min * 1e3:.3f} "
+          f"mrad; solver {[(round(q.roll * 1e3, 3), q.stable) for q in rig.roots]}")
+    assert len(roots) == 3 and rig.n_roots == 3
+    assert [q.stable for q in rig.roots] == [True, False, True]
+    assert np.allclose([q.roll for q in rig.roots], roots, atol=2e-5)  # oracle grid 1e-5 rad
+    # the chosen root is the global minimum of max(z_left, z_right) (oracle grid 1e-5 rad)
+    assert abs(rig.roll - roll_min) < 2e-5 and abs(rig.z_g - z_min) < 1e-6
+    assert rig.success and not rig.at_end
+    # the table stores the count; a mesh method started there converges to the same pose
+    ref = solve_pose(thinned_scene, y, 0.0, "reference")
+    lc = solve_pose(thinned_scene, y, 0.0, "load_centre")
+    assert ref.n_roots == lc.n_roots == 3
+    assert lc.status == CONVERGED and abs(lc.z_g - ref.z_g) < 0.02 * MM
+    others = [q.z_g for q in rig.roots if q.roll != rig.roll]
+    assert min(abs(z - lc.z_g) for z in others) > 0.3 * MM  # not another root
+    # under refinement (mesh and allowed indentation halved together) the load centre closes
+    # in on the chosen root
+    fine = Scene.from_profiles(flange_thinning(s1002(), 2.0), uic60(),
+                               inclination=math.atan(1 / 40),
+                               spacing=(1.25e-4, 2.5e-4, 1.25e-4, 2.5e-4),
+                               equilibrium=EquilibriumOptions(allowed_indentation=5e-6))
+    lf = solve_pose(fine, y, 0.0, "load_centre")
+    assert lf.status == CONVERGED
+    print(f"load centre - root z_g: {(lc.z_g - ref.z_g) / MM:+.5f} mm (0.25 mm mesh), "
+          f"{(lf.z_g - ref.z_g) / MM:+.5f} mm (0.125 mm)")
+    assert abs(lf.z_g - ref.z_g) <= abs(lc.z_g - ref.z_g) + 1e-6 * MM
+
+
+def test_check_advice_names_the_cause():
+    from lutmpi.check.suite import advice
+
+    scene = Scene.from_profiles(s1002(), uic60())
+    rigid = advice(NO_CONTACT, scene, "no_contact (no rigid two-wheel contact over the "
+                                      "admissible roll range ...)")
+    mesh = advice(NO_CONTACT, scene, "no_contact: a wheel found none in its mesh window")
+    end = advice(PROFILE_END, scene, "profile_end (...)")
+    assert "no rigid two-wheel contact exists" in rigid and "refine" not in rigid
+    assert "rigid contact exists but the mesh sees none" in mesh
+    assert "end of a profile's data" in end
+
+
+def test_contact_at_end_of_profile_data():
+    # a cylinder on a circular crown whose data stop 3 mm before the crown top: the wheel
+    # rests on the last point of the rail's data -> profile_end, never converged
+    R = 0.3
+    v = np.linspace(-0.030, -0.003, 300)
+    rail = Profile("rail", v, np.sqrt(R * R - v * v) - R, name="cut_crown")
+    s = np.linspace(-0.06, 0.06, 241)
+    wheel = Profile("wheel", s, np.zeros_like(s), name="cylinder")
+    st = SolveSettings(flange=False)  # a cylinder has no flange
+    scene = Scene.from_profiles(wheel, rail, inclination=0.0, gauge=1.435, gauge_depth=1e-3,
+                                settings=st)
+    for method in ("reference", "load_centre"):
+        r = solve_pose(scene, 0.0, 0.0, method)
+        assert r.status == PROFILE_END and not r.success, (method, r.message)
+        assert r.n_roots >= 1 and "end of the data" in r.message
+    # the full crown: the same pose converges
+    vf = np.linspace(-0.030, 0.030, 600)
+    full = Profile("rail", vf, np.sqrt(R * R - vf * vf) - R, name="crown")
+    scene = Scene.from_profiles(wheel, full, inclination=0.0, gauge=1.435, gauge_depth=1e-3,
+                                settings=st)
+    assert solve_pose(scene, 0.0, 0.0, "reference").status == CONVERGED
+
+
+def test_root_far_from_zero_roll_is_found():
+    # simulated-worn wheel on the benchmark rail at y = 4 mm: the only rigid solution is at
+    # roll ~ 14.5 mrad, outside where the former secant/symmetric-bracket search looked
+    scene = Scene.from_profiles(read_profile(PROFILES / "whl_left_iter288.whl", kind="wheel"),
+                                read_profile(PROFILES / "MBench_UIC60_v3.prr", kind="rail"),
+                                inclination=0.0)
+    y = 4.0 * MM
+    rig = scene.locus.solve(y, 0.0)
+    roots, roll_min, z_min = _oracle(scene, y)
+    assert rig.success and rig.n_roots == len(roots) == 1
+    assert abs(rig.roll - roots[0]) < 2e-5 and abs(rig.roll) > 0.01
+    assert solve_pose(scene, y, 0.0, "reference").status != NO_CONTACT
+
+
+# -- every measured pair of profiles/ ------------------------------------------------------
+WHEELS = ("MBench_S1002_v3.prw", "avg_wheel.whl", "Car7216_0001r.whl", "Car7358_0001r.whl",
+          "whl_left_iter288.whl")
+# rail file, inclination (rad), gauge depth (mm): profiles/README.md and configs/wear_sweep.toml
+RAILS = (("MBench_UIC60_v3.prr", 0.0, 14.0), ("MBench_UIC60_v3.ban", 0.0, 14.0),
+         ("rail_left_iter288.ban", 0.0, 14.0), ("avg_low2.ban", math.atan(1 / 40), 10.0))
+
+
+def _pair_scene(wf, rail):
+    rf, inc, depth = rail
+    return Scene.from_profiles(read_profile(PROFILES / wf, kind="wheel"),
+                               read_profile(PROFILES / rf, kind="rail"),
+                               inclination=inc, gauge_depth=depth * MM)
+
+
+def _check_pair(scene, ys):
+    bad = []
+    for y in ys:
+        ref = solve_pose(scene, y, 0.0, "reference")
+        lc = solve_pose(scene, y, 0.0, "load_centre")
+        for r in (ref, lc):
+            if r.n_roots > 0 and r.status == NO_CONTACT:
+                bad.append((y / MM, r.method, "no_contact although a rigid contact exists"))
+        if ref.status == CONVERGED and lc.status == CONVERGED and \
+                abs(ref.z_g - lc.z_g) > 0.05 * MM:
+            bad.append((y / MM, "z_g", (lc.z_g - ref.z_g) / MM))
+    return bad
+
+
+@pytest.mark.parametrize("rail", RAILS, ids=[r[0] for r in RAILS])
+def test_measured_pairs_no_hole_and_reference_agrees(rail):
+    """Every wheel on this rail, y in [-9, 9] mm every 1.5 mm, yaw 0 (~10 s per rail)."""
+    bad = {}
+    for wf in WHEELS:
+        b = _check_pair(_pair_scene(wf, rail), np.arange(-9.0, 9.01, 1.5) * MM)
+        if b:
+            bad[wf] = b
+    assert bad == {}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("rail", RAILS, ids=[r[0] for r in RAILS])
+def test_measured_pairs_fine_y(rail):
+    """The same at every 0.25 mm (~1 min per rail)."""
+    bad = {}
+    for wf in WHEELS:
+        b = _check_pair(_pair_scene(wf, rail), np.arange(-9.0, 9.01, 0.25) * MM)
+        if b:
+            bad[wf] = b
+    assert bad == {}
