@@ -1,4 +1,4 @@
-"""Table build benchmark (issue 4): wall time, per-point time and parallel efficiency for 1 and N
+"""Table build benchmark (issue 4): wall time, per-point time and busy fraction for 1 and N
 ranks, start-up included, and the load imbalance each split would give for the measured per-point
 costs.
 
@@ -11,7 +11,8 @@ solver through). The figures printed:
 * ``wall``: the build proper (the table's ``wall_time_s``);
 * ``per point``: sum of the ranks' busy (solving) wall time / points, and the solver-reported
   ``compute_time``;
-* ``efficiency``: sum of busy times / (ranks x wall) -- the parallel efficiency of the build;
+* ``busy fraction``: sum of busy times / (ranks x wall) -- how busy the ranks were (not a
+  speed-up; ``benchmarks/strong_scaling.py`` measures speed-up against a 1-rank run);
 * ``speed-up``: total(1 rank) / total(N ranks).
 
 Then, from the 1-rank table's per-point costs, the imbalance (max rank load / mean rank load)
@@ -99,7 +100,7 @@ def main() -> None:
               f"{cost.size} points, per point {busy.sum() / cost.size * 1e3:8.2f} ms wall "
               f"({cost.mean() * 1e3:.1f} ms solver-reported, max {cost.max() * 1e3:.1f}), "
               f"busy/rank {np.round(busy, 2).tolist()} s, imbalance "
-              f"{busy.max() / busy.mean():.3f}, efficiency {busy.sum() / (n * wall):6.1%}, "
+              f"{busy.max() / busy.mean():.3f}, busy fraction {busy.sum() / (n * wall):6.1%}, "
               f"speed-up {base / total:5.2f}", flush=True)
     analyse(rows[0][3])
 

@@ -91,9 +91,10 @@ def side_profiles(cfg: Config) -> tuple[dict[str, Profile], dict[str, Profile]]:
     for name in SIDE_NAMES:
         for kind, sec, out in (("wheel", cfg.wheel, wheels), ("rail", cfg.rail, rails)):
             res = sec.side(name)
-            key = (kind, res)
+            wear = getattr(cfg.wear, kind).side(name)
+            key = (kind, res, wear)
             if key not in cache:
-                cache[key] = _load(cfg, kind, res, _source_key(sec, kind, name))
+                cache[key] = _load(cfg, kind, res, wear, _source_key(sec, kind, name))
             out[name] = cache[key]
     return wheels, rails
 
@@ -103,7 +104,7 @@ def _source_key(sec, kind: str, side: str) -> str:
     return f"{kind}.{side}.profile" if own.profile is not None else f"{kind}.profile"
 
 
-def _load(cfg: Config, kind: str, sec, key: str) -> Profile:
+def _load(cfg: Config, kind: str, sec, wear_cfg, key: str) -> Profile:
     """One profile: generated, or read with the section's reading options; then the wear."""
     from lutmpi.profiles import wear
     from lutmpi.profiles.readers import read_profile
@@ -121,17 +122,16 @@ def _load(cfg: Config, kind: str, sec, key: str) -> Profile:
         except ProfileError as exc:
             raise ConfigError(f"cannot read the {kind} profile: {exc}", key=key,
                               path=None if cfg.path is None else str(cfg.path)) from None
-    ww, rw = cfg.wear.wheel, cfg.wear.rail
     if kind == "wheel":
-        if ww.flange_thinning_mm:
-            prof = wear.flange_thinning(prof, ww.flange_thinning_mm)
-        if ww.tread_hollowing_mm:
-            prof = wear.tread_hollowing(prof, ww.tread_hollowing_mm)
+        if wear_cfg.flange_thinning_mm:
+            prof = wear.flange_thinning(prof, wear_cfg.flange_thinning_mm)
+        if wear_cfg.tread_hollowing_mm:
+            prof = wear.tread_hollowing(prof, wear_cfg.tread_hollowing_mm)
     else:
-        if rw.vertical_mm:
-            prof = wear.rail_vertical_wear(prof, rw.vertical_mm)
-        if rw.side_mm:
-            prof = wear.rail_side_wear(prof, rw.side_mm)
+        if wear_cfg.vertical_mm:
+            prof = wear.rail_vertical_wear(prof, wear_cfg.vertical_mm)
+        if wear_cfg.side_mm:
+            prof = wear.rail_side_wear(prof, wear_cfg.side_mm)
     return prof
 
 

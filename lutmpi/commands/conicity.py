@@ -135,13 +135,13 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     from lutmpi.scene import Scene
     from lutmpi.table.compute import compute_points, default_solver
     from lutmpi.table.grid import Grid
-    from lutmpi.table.schema import FIELDS_BY_NAME
+    from lutmpi.table.schema import FIELDS_BY_NAME, D
 
     cfg = load_config(path)
     cfg = dataclasses.replace(cfg, grid=dataclasses.replace(cfg.grid, yaw_rad=(0.0, 0.0, 1)))
     name = method or cfg.contact.method
     grid = Grid.from_config(cfg.grid)
-    fields = [FIELDS_BY_NAME[k] for k in ("status", "rolling_radius")]
+    fields = [FIELDS_BY_NAME[k] for k in (D.status, D.rolling_radius)]
     recs, _ = compute_points(Scene.from_config(cfg), grid, np.arange(grid.n_points), [name],
                              default_solver(), fields)
     group = {k: v[:, None] for k, v in recs[name].items()}   # (ny, nyaw = 1, ...)

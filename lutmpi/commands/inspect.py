@@ -7,6 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from lutmpi.table.schema import D
+
 
 def register(subparsers: Any) -> None:
     p = subparsers.add_parser("inspect", help="describe a lookup table file",
@@ -33,7 +35,7 @@ def describe(table: Any, show_config: bool = False) -> str:
     for method in table.methods:
         lines.append(f"\n[{method}]  status: " + ", ".join(
             f"{k} {v}" for k, v in table.status_counts(method).items()))
-        ct = table.get("compute_time", method, raw=True) if "compute_time" in table.quantities \
+        ct = table.get(D.compute_time, method, raw=True) if D.compute_time in table.quantities \
             else None
         if ct is not None:
             lines.append(f"  compute time per point: mean {np.nanmean(ct) * 1e3:.1f} ms, "

@@ -376,6 +376,8 @@ def _rule_key(key: str) -> str:
     parts = key.split(".")
     if len(parts) == 3 and parts[0] in ("wheel", "rail") and parts[1] in SIDE_NAMES:
         return f"{parts[0]}.{parts[2]}"
+    if len(parts) == 4 and parts[0] == "wear" and parts[2] in SIDE_NAMES:
+        return f"wear.{parts[1]}.{parts[3]}"
     return key
 
 

@@ -18,13 +18,9 @@ from lutmpi.contact.methods import METHOD_NAMES as ALL_METHODS  # noqa: E402, F4
 WHEEL_GENERATORS = ("S1002",)
 RAIL_GENERATORS = ("UIC60",)
 EQUILIBRIUM_SOLVERS = ("newton", "fixed_point")
-# Per-point quantities a table can hold (``[output] quantities``; "all" = every one). The names are
-# the dataset names of ``lutmpi/table/schema.py``. ALWAYS_STORED are written whatever is selected.
-QUANTITIES = ("z_g", "roll", "x_g", "pitch", "wheel_point", "rail_point", "normal", "indentation",
-              "kc", "rolling_radius", "contact_angle", "wheel_s", "rail_v", "curvatures",
-              "n_contacts", "force", "n_roots")
-ALWAYS_STORED = ("status", "iterations", "compute_time")
-
+# Per-point quantities a table can hold (``[output] quantities``; "all" = every one), derived from
+# the schema, the only list of dataset names. ALWAYS_STORED are written whatever is selected.
+from lutmpi.table.schema import ALWAYS_STORED, QUANTITIES  # noqa: E402, F401
 
 SIDE_NAMES = ("left", "right")
 WHEEL_ORIGINS = ("tape_circle", "flange_back")
@@ -233,19 +229,49 @@ class FlangeConfig:
 
 
 @dataclass(frozen=True)
+class WheelWearSideConfig:
+    """``[wear.wheel.left]`` / ``[wear.wheel.right]``: one wheel's own wear; None = as
+    ``[wear.wheel]``."""
+
+    flange_thinning_mm: float | None = None
+    tread_hollowing_mm: float | None = None
+
+
+@dataclass(frozen=True)
 class WheelWearConfig:
-    """``[wear.wheel]``: parametric wheel wear (applied by ``lutmpi/profiles/wear.py``)."""
+    """``[wear.wheel]``: parametric wheel wear (applied by ``lutmpi/profiles/wear.py``), both
+    wheels unless ``[wear.wheel.left]`` / ``[wear.wheel.right]`` say otherwise."""
 
     flange_thinning_mm: float = 0.0    # material removed from the flange face (Sd decreases)
     tread_hollowing_mm: float = 0.0    # depth of a hollow worn into the tread at the tape circle
+    left: WheelWearSideConfig = field(default_factory=WheelWearSideConfig)
+    right: WheelWearSideConfig = field(default_factory=WheelWearSideConfig)
+
+    def side(self, name: str) -> WheelWearConfig:
+        return _resolve(self, getattr(self, name), WheelWearSideConfig)
+
+
+@dataclass(frozen=True)
+class RailWearSideConfig:
+    """``[wear.rail.left]`` / ``[wear.rail.right]``: one rail's own wear; None = as
+    ``[wear.rail]``."""
+
+    vertical_mm: float | None = None
+    side_mm: float | None = None
 
 
 @dataclass(frozen=True)
 class RailWearConfig:
-    """``[wear.rail]``: parametric wear applied to the rail head (``lutmpi/profiles/wear.py``)."""
+    """``[wear.rail]``: parametric wear applied to the rail head (``lutmpi/profiles/wear.py``),
+    both rails unless ``[wear.rail.left]`` / ``[wear.rail.right]`` say otherwise."""
 
     vertical_mm: float = 0.0           # head height lost at the rail centre line
     side_mm: float = 0.0               # gauge-face material lost, measured at the gauge depth
+    left: RailWearSideConfig = field(default_factory=RailWearSideConfig)
+    right: RailWearSideConfig = field(default_factory=RailWearSideConfig)
+
+    def side(self, name: str) -> RailWearConfig:
+        return _resolve(self, getattr(self, name), RailWearSideConfig)
 
 
 @dataclass(frozen=True)
@@ -258,8 +284,11 @@ class WearConfig:
     @property
     def any(self) -> bool:
         """True when any wear parameter is non-zero."""
-        return any(v != 0.0 for v in (self.wheel.flange_thinning_mm, self.wheel.tread_hollowing_mm,
-                                      self.rail.vertical_mm, self.rail.side_mm))
+        vals = []
+        for s in SIDE_NAMES:
+            w, r = self.wheel.side(s), self.rail.side(s)
+            vals += [w.flange_thinning_mm, w.tread_hollowing_mm, r.vertical_mm, r.side_mm]
+        return any(v != 0.0 for v in vals)
 
 
 @dataclass(frozen=True)

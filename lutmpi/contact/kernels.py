@@ -8,14 +8,17 @@ Aggregates (named tuples, built once per mesh or window; numba types them as rec
 * :class:`WheelArrays` -- the wheel grid: slices ``s, r, dr`` (m, m, 1), ``d`` (m), ``dphi`` (rad),
   the 10 µm slope table ``tab_s, tab_dr`` and the profile's ``s_lo, s_hi`` (m);
 * :class:`RailArrays` -- the rail grid: profile nodes ``u, z`` (m), unit normals ``nu, nz``,
-  longitudinal step ``h_x`` (m);
+  longitudinal step ``h_x`` (m), and the placed rail's height table (first ``tab_u0``, step
+  ``tab_du``, heights ``tab_z``; m) over ``[u_min, u_max]`` (m);
 * :class:`WindowArrays` -- one wheel's window: ``side`` (+1 left, -1 right), slice index ``k`` of
   each wheel node, wheelset-frame ``body_pts, body_nrm`` (n, 3), track-frame ``rail_pts,
   rail_nrm`` (m, 3);
 * :class:`Pose` -- ``centre`` (3,) m and rotation ``R`` (3, 3) of the wheelset;
-* :class:`Contacts` -- what a method's stage returns: ``n`` volumes, and per volume (first
+* :class:`Contacts` -- what a method's stage fills: ``n`` volumes, and per volume (first
   ``n`` rows of :data:`MAX_VOL`) wheel point, rail point, wheel outward normal, indentation
-  ``C`` (m), profile coordinate ``s`` (m), node counts.
+  ``C`` (m), profile coordinate ``s`` (m), node counts; all of them views of one array ``buf``
+  (:data:`COLUMNS`), so that a stage returns ``(n, buf)`` (:func:`packed`) and crossing back to
+  Python boxes one array instead of seven.
 """
 
 from __future__ import annotations
@@ -48,6 +51,11 @@ class RailArrays(NamedTuple):
     nu: np.ndarray
     nz: np.ndarray
     h_x: float
+    tab_u0: float
+    tab_du: float
+    tab_z: np.ndarray
+    u_min: float
+    u_max: float
 
 
 class WindowArrays(NamedTuple):
@@ -64,8 +72,14 @@ class Pose(NamedTuple):
     R: np.ndarray
 
 
+#: the columns of a :class:`Contacts` buffer
+COLUMNS = {"wheel_point": slice(0, 3), "rail_point": slice(3, 6), "n_wheel": slice(6, 9),
+           "C": 9, "s": 10, "n_wheel_nodes": 11, "n_rail_nodes": 12}
+
+
 class Contacts(NamedTuple):
     n: int
+    buf: np.ndarray
     wheel_point: np.ndarray
     rail_point: np.ndarray
     n_wheel: np.ndarray
@@ -206,10 +220,18 @@ def search_wheel_nodes(win, rail, pose):
 
 @njit(cache=True)
 def empty_contacts(ws):
-    """The :class:`Contacts` arrays of a search, to be filled by a method's stage."""
-    return Contacts(ws.nvol, np.zeros((MAX_VOL, 3)), np.zeros((MAX_VOL, 3)),
-                    np.zeros((MAX_VOL, 3)), np.full(MAX_VOL, -1e300), np.zeros(MAX_VOL),
-                    ws.n_nodes.copy(), np.zeros(MAX_VOL, dtype=np.int64))
+    """The :class:`Contacts` of a search, to be filled by a method's stage."""
+    buf = np.zeros((MAX_VOL, 13))
+    buf[:, 9] = -1e300
+    buf[:, 11] = ws.n_nodes
+    return Contacts(ws.nvol, buf, buf[:, 0:3], buf[:, 3:6], buf[:, 6:9], buf[:, 9], buf[:, 10],
+                    buf[:, 11], buf[:, 12])
+
+
+@njit(cache=True)
+def packed(out):
+    """What a method's stage returns: ``(n, buf)`` of its :class:`Contacts`."""
+    return out.n, out.buf
 
 
 @njit(cache=True)
@@ -280,11 +302,13 @@ def locus_heights(idx, n, side2, s2, r2, dr2, d, R, y, u0, du, tabz, u_min, u_ma
 
 
 @njit(cache=True)
-def window_wheel_nodes(side, ks, mc, mh, s, r, dr, d, dphi, centre, R, u0, du, tabz, u_min,
-                       u_max, limit, filt):
+def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt):
     """Wheel nodes of a window: slices ``ks`` with angle indices ``mc ± mh``; with ``filt``,
-    only the nodes whose vertical gap to the rail is at most ``limit``. Returns (k, m, body
+    only the nodes whose vertical gap to the rail is at most ``limit`` (m). Returns (k, m, body
     points, body normals, track points)."""
+    s, r, dr, d, dphi = wheel.s, wheel.r, wheel.dr, wheel.d, wheel.dphi
+    centre, R = pose.centre, pose.R
+    u0, du, tabz, u_min, u_max = rail.tab_u0, rail.tab_du, rail.tab_z, rail.u_min, rail.u_max
     total = 0
     for q in range(ks.size):
         total += 2 * mh[q] + 1
@@ -325,11 +349,14 @@ def window_wheel_nodes(side, ks, mc, mh, s, r, dr, d, dphi, centre, R, u0, du, t
 
 
 @njit(cache=True)
-def window_rail_nodes(side, k, m, tp, ru, rz, rnu, rnz, h_x, ws, wr, d, dphi, centre, R, KN,
-                      filt):
+def window_rail_nodes(side, k, m, tp, wheel, rail, pose, filt):
     """Rail nodes in the box spanned by the window's wheel nodes (two nodes of margin); with
     ``filt``, only those whose nearest wheel node is (next to) a window node. Returns (track
     points, track normals)."""
+    ru, rz, rnu, rnz, h_x = rail.u, rail.z, rail.nu, rail.nz, rail.h_x
+    ws, wr, d, dphi = wheel.s, wheel.r, wheel.d, wheel.dphi
+    centre, R = pose.centre, pose.R
+    KN = K_NEAR
     n = k.size
     umin, umax, xmin, xmax = np.inf, -np.inf, np.inf, -np.inf
     for i in range(n):

@@ -273,6 +273,31 @@ def _scan_side(idx, sgn, s, r, dr, d, R, y, tab, lim, gap, fine):
 
 
 @njit(cache=True)
+def _scan_adaptive(lo, hi, step, lip, yaw, y, idx_l, s_l, r_l, dr_l, d_l, tab_l, lim_l,
+                   idx_r, s_r, r_r, dr_r, d_r, tab_r, lim_r):
+    """``h`` from ``lo`` to ``hi`` (rad) with the step ``max(step, |h| / lip)``: ``lip`` bounds
+    ``|dh/droll|``, so no root lies within ``|h| / lip`` of a point (a NaN point takes ``step``).
+    Returns the rolls and ``h`` there (``hi`` always included)."""
+    n_max = int((hi - lo) / step) + 3
+    xs = np.empty(n_max)
+    hs = np.empty(n_max)
+    x = lo
+    k = 0
+    while True:
+        h = _scan(np.array([x]), yaw, y, idx_l, s_l, r_l, dr_l, d_l, tab_l, lim_l,
+                  idx_r, s_r, r_r, dr_r, d_r, tab_r, lim_r)[0]
+        xs[k], hs[k] = x, h
+        k += 1
+        if x >= hi or k >= n_max:
+            break
+        dx = step
+        if np.isfinite(h):
+            dx = max(step, abs(h) / lip)
+        x = min(x + dx, hi)
+    return xs[:k], hs[:k]
+
+
+@njit(cache=True)
 def _scan(rolls, yaw, y, idx_l, s_l, r_l, dr_l, d_l, tab_l, lim_l,
           idx_r, s_r, r_r, dr_r, d_r, tab_r, lim_r):
     """``h(roll) = z_left - z_right`` at every roll of ``rolls`` (NaN where a wheel has no point
@@ -386,6 +411,7 @@ class LocusSolver:
         self.max_contacts = max_contacts
         self.lever = 0.5 * (wheels["left"].d + wheels["right"].d)
         self.roll_max = self._roll_bound()
+        self.lipschitz = self._lipschitz()
         n = int(np.ceil(self.roll_max / SCAN_STEP))
         self.scan_rolls = np.linspace(-n * SCAN_STEP, n * SCAN_STEP, 2 * n + 1)
         self._memo: dict[tuple, RigidSolution] = {}
@@ -402,6 +428,17 @@ class LocusSolver:
         lever = sum(x.wheel.d + x.samp.s[0] for x in sd)
         return float(min(np.arcsin(min((np.ptp(z) + np.ptp(r)) / lever, 1.0)) + ROLL_MARGIN,
                          0.25))
+
+    def _lipschitz(self) -> float:
+        """A bound of ``|dh/droll|``, 1/rad x m: a touching height is an envelope over the wheel
+        points, so its derivative is that of one point's, at most its distance to the roll axis
+        ``sqrt((d + s)^2 + r^2)`` times (1 + the steepest rail slope kept, <= tan 85 deg)."""
+        out = 0.0
+        for sd in self.sides.values():
+            arm = float(np.max(np.hypot(sd.wheel.d + sd.samp.s, sd.samp.r)))
+            slope = float(np.max(np.abs(np.diff(sd.rail.z) / np.diff(sd.rail.u))))
+            out += arm * (1.0 + slope)
+        return out
 
     # -- heights ---------------------------------------------------------------------------
     def heights(self, y: float, yaw: float, roll: float,
@@ -501,8 +538,17 @@ class LocusSolver:
                      Rt.rail.height_table[2], Rt.lim)
 
     def brackets(self, y: float, yaw: float) -> list[tuple[float, float, bool]]:
-        """Roll intervals holding one root each, with its stability: ``(a, b, stable)``."""
-        return find_brackets(self.scan_rolls, lambda r: self.scan(y, yaw, r))
+        """Roll intervals holding one root each, with its stability: ``(a, b, stable)``. The
+        scan steps by ``max(SCAN_STEP, |h| / lipschitz)``: no root is skipped, and far from
+        the roots the scan takes long steps."""
+        L, Rt = self.sides["left"], self.sides["right"]
+        x, h = _scan_adaptive(float(self.scan_rolls[0]), float(self.scan_rolls[-1]), SCAN_STEP,
+                              self.lipschitz, float(yaw), float(y),
+                              L.coarse, L.samp.s, L.samp.r, L.samp.dr, L.wheel.d,
+                              L.rail.height_table[2], L.lim,
+                              Rt.coarse, Rt.samp.s, Rt.samp.r, Rt.samp.dr, Rt.wheel.d,
+                              Rt.rail.height_table[2], Rt.lim)
+        return find_brackets(x, lambda r: self.scan(y, yaw, r), h=h, lip=self.lipschitz)
 
     # -- the solve ---------------------------------------------------------------------------
     def solve(self, y: float, yaw: float, xtol: float = 1e-13,
@@ -652,8 +698,9 @@ class LocusSolver:
 
 
 # -- roots of the height mismatch -------------------------------------------------------------
-def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30,
-                  n_golden: int = 30) -> list[tuple[float, float, bool]]:
+def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
+                  h: np.ndarray | None = None,
+                  lip: float = np.inf) -> list[tuple[float, float, bool]]:
     """Intervals of roll holding one root of ``h`` each, and whether the root is stable.
 
     Parameters
@@ -662,6 +709,11 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30,
         Increasing scan grid of roll, rad.
     hfun : callable
         ``hfun(rolls) -> h`` (m), NaN where a wheel misses its rail.
+    h : ndarray, optional
+        ``hfun(x)`` when already known.
+    lip : float
+        A bound of ``|dh/droll|``: a NaN range whose finite neighbour has ``|h| > lip`` times
+        the step to it cannot hold a root before it and is not bisected.
 
     Returns
     -------
@@ -672,9 +724,9 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30,
         either side of roll 0), and every dip of ``|h|`` toward zero between scan points is
         searched for its extremum (two close roots can hide between two scan points).
     """
-    h = np.asarray(hfun(x), dtype=float)
+    h = np.asarray(hfun(x) if h is None else h, dtype=float)
     pts = [(float(a), float(b)) for a, b in zip(x, h, strict=True)]
-    pts += _nan_edges(x, h, hfun, n_bisect) + _dips(x, h, hfun, n_golden)
+    pts += _nan_edges(x, h, hfun, n_bisect, lip) + _dips(x, h, hfun, n_golden)
     pts.sort()
     out = []
     fin = [(a, b) for a, b in pts if np.isfinite(b)]
@@ -691,12 +743,16 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30,
     return out
 
 
-def _nan_edges(x, h, hfun, n_bisect: int) -> list[tuple[float, float]]:
-    """The last finite point before every range where ``h`` is NaN (bisection)."""
+def _nan_edges(x, h, hfun, n_bisect: int, lip: float = np.inf) -> list[tuple[float, float]]:
+    """The last finite point before every range where ``h`` is NaN (bisection), unless
+    ``|h|`` there is too large for a root to lie before the NaN range (``lip`` bounds the
+    slope)."""
     out = []
     fin = np.isfinite(h)
     for i in np.nonzero(fin[:-1] != fin[1:])[0]:
         a, b = (x[i], x[i + 1]) if fin[i] else (x[i + 1], x[i])  # a finite, b NaN
+        if abs(h[i] if fin[i] else h[i + 1]) > lip * abs(b - a):
+            continue
         for _ in range(n_bisect):
             m = 0.5 * (a + b)
             if np.isfinite(hfun(np.array([m]))[0]):

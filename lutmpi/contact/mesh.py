@@ -17,6 +17,7 @@ from functools import cached_property
 import numpy as np
 
 from lutmpi.contact.kernels import (
+    Pose,
     RailArrays,
     WheelArrays,
     WindowArrays,
@@ -132,7 +133,9 @@ class RailMesh:
     @cached_property
     def arrays(self) -> RailArrays:
         """The grid as the compiled kernels take it."""
-        return RailArrays(self.u, self.z, self.nu, self.nz, float(self.h_x))
+        u0, du, tab_z = self.rail.height_table
+        return RailArrays(self.u, self.z, self.nu, self.nz, float(self.h_x), u0, du, tab_z,
+                          float(self.rail.u_min), float(self.rail.u_max))
 
     def nearest_node(self, u: np.ndarray, z: np.ndarray, K: int = 3) -> np.ndarray:
         """Index of the profile node nearest to (u, z)."""
@@ -207,15 +210,12 @@ def build_window(
             f"GB), more than {MAX_WINDOW_NODES:.0e}: mesh spacings {wmesh.h_lat * 1e3:g} mm "
             f"across x {wmesh.h_circ * 1e3:g} mm around the wheel are too fine; coarsen [mesh] "
             "(defaults 0.25 x 0.5 mm)")
-    rail = rmesh.rail
+    pose = Pose(centre, R)
     k, m, pts, nrm, tp = window_wheel_nodes(
-        side, ks.astype(np.int64), mc.astype(np.int64), mh.astype(np.int64), wmesh.s, wmesh.r,
-        wmesh.dr, wmesh.wheel.d, wmesh.dphi, centre, R, *rail.height_table, rail.u_min,
-        rail.u_max, gmin + depth, not full)
+        side, ks.astype(np.int64), mc.astype(np.int64), mh.astype(np.int64), wmesh.arrays,
+        rmesh.arrays, pose, gmin + depth, not full)
     if with_rail and k.size:
-        rp, rn = window_rail_nodes(
-            side, k, m, tp, rmesh.u, rmesh.z, rmesh.nu, rmesh.nz, rmesh.h_x, wmesh.s, wmesh.r,
-            wmesh.wheel.d, wmesh.dphi, centre, R, 3, not full)
+        rp, rn = window_rail_nodes(side, k, m, tp, wmesh.arrays, rmesh.arrays, pose, not full)
     else:
         rp = rn = np.zeros((0, 3))
     return Window(side=side, k=k, m=m, body_pts=pts, body_nrm=nrm, rail_pts=rp, rail_nrm=rn)

@@ -1,52 +1,41 @@
 """The per-contact outputs every method stores (rolling radius, contact angle, profile
-coordinates, curvatures), from a contact's points, normal and indentation."""
+coordinates, curvatures), from a contact's points, normal and indentation.
+
+:class:`ContactResult` is declared here, next to the code that fills it: a new stored per-contact
+quantity is an attribute here, its value in :func:`_side_records` (every method's contacts pass
+through it) and its line in ``lutmpi/table/schema.py``; ``table/compute.py`` stores it by name."""
 
 from __future__ import annotations
 
-import numpy as np
+from dataclasses import dataclass
 
-from lutmpi.equilibrium.result import ContactResult
+import numpy as np
 
 SIDE_SIGN = {"left": 1.0, "right": -1.0}
 
 
-def contact_record(
-    sd,
-    side: float,
-    wheel_point: np.ndarray,
-    rail_point: np.ndarray,
-    normal: np.ndarray,
-    C: float,
-    s: float,
-    kc: float,
-) -> ContactResult:
-    """One contact's stored record (track frame, SI); ``normal`` from the rail into the wheel,
-    ``s`` the wheel profile coordinate, ``kc`` the contact's stiffness (NaN: rigid); ``sd``
-    the :class:`~lutmpi.scene.SideScene` of the wheel."""
-    wheel, rail = sd.wheel, sd.rail
-    u_r = side * rail_point[1]
-    dr = float(wheel.dr(s))
-    r = float(wheel.radius(s))
-    return ContactResult(
-        wheel_point=np.asarray(wheel_point, float),
-        rail_point=np.asarray(rail_point, float),
-        normal=np.asarray(normal, float),
-        indentation=float(C),
-        kc=float(kc),
-        force=float(kc * C) if np.isfinite(kc) else float("nan"),
-        rolling_radius=r,
-        contact_angle=float(np.arctan2(-side * normal[1], normal[2])),
-        wheel_s=float(s),
-        rail_v=float(rail.profile_coordinate(u_r, rail_point[2])),
-        wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + dr * dr)),
-        wheel_curv_transverse=float(wheel.convex_curvature(s)),
-        rail_curv_transverse=float(rail.convex_curvature(np.clip(u_r, rail.u_min, rail.u_max))),
-    )
+@dataclass
+class ContactResult:
+    """One contact on one wheel (SI, track frame)."""
+
+    wheel_point: np.ndarray      # (3,) m, contact point on the wheel
+    rail_point: np.ndarray       # (3,) m, contact point on the rail
+    normal: np.ndarray           # (3,) unit, rail outward normal (from rail into wheel)
+    indentation: float           # m, C_max of this contact (>= 0)
+    kc: float = float("nan")     # N/m, contact stiffness used for this contact
+    force: float = 0.0           # N, normal force magnitude kc * indentation
+    rolling_radius: float = float("nan")   # m, distance of wheel_point from the axle axis
+    contact_angle: float = float("nan")    # rad, normal's angle from vertical; > 0 toward flange
+    wheel_s: float = float("nan")          # m, profile coordinate on the wheel (see Profile)
+    rail_v: float = float("nan")           # m, profile coordinate on the rail (see Profile)
+    wheel_curv_rolling: float = float("nan")    # 1/m, principal curvature, rolling direction
+    wheel_curv_transverse: float = float("nan")  # 1/m, wheel profile curvature (convex > 0)
+    rail_curv_transverse: float = float("nan")   # 1/m, rail profile curvature (convex > 0)
 
 
 def contact_records(scene, rows: list[tuple]) -> list[ContactResult]:
-    """:func:`contact_record` for several contacts at once (one spline evaluation per quantity
-    and side for all of them; the same numbers): ``rows`` of ``(side, wheel_point, rail_point,
+    """The stored record of several contacts (one spline evaluation per quantity and side for
+    all of them): ``rows`` of ``(side, wheel_point, rail_point,
     normal, C, s, kc)``; each side's own wheel and rail (``scene.side(name)``)."""
     out: list[ContactResult | None] = [None] * len(rows)
     for name, sign in SIDE_SIGN.items():

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numpy as np
+# declared next to the code that fills it (one module per stored per-contact quantity); re-exported
+from lutmpi.contact.records import ContactResult  # noqa: F401
 
 # status code -> text; stored as an attribute of every table's ``status`` dataset
 STATUS = {
@@ -22,25 +23,6 @@ STATUS = {
 (CONVERGED, MAX_ITER, NO_CONTACT, KC_LIMIT, EQ_FAILED, WINDOW, NOT_COMPUTED, ERROR,
  TIME_BUDGET, PROFILE_END) = range(10)
 SIDES = ("left", "right")
-
-
-@dataclass
-class ContactResult:
-    """One contact on one wheel (SI, track frame)."""
-
-    wheel_point: np.ndarray      # (3,) m, contact point on the wheel
-    rail_point: np.ndarray       # (3,) m, contact point on the rail
-    normal: np.ndarray           # (3,) unit, rail outward normal (from rail into wheel)
-    indentation: float           # m, C_max of this contact (>= 0)
-    kc: float = float("nan")     # N/m, contact stiffness used for this contact
-    force: float = 0.0           # N, normal force magnitude kc * indentation
-    rolling_radius: float = float("nan")   # m, distance of wheel_point from the axle axis
-    contact_angle: float = float("nan")    # rad, normal's angle from vertical; > 0 toward flange
-    wheel_s: float = float("nan")          # m, profile coordinate on the wheel (see Profile)
-    rail_v: float = float("nan")           # m, profile coordinate on the rail (see Profile)
-    wheel_curv_rolling: float = float("nan")    # 1/m, principal curvature, rolling direction
-    wheel_curv_transverse: float = float("nan")  # 1/m, wheel profile curvature (convex > 0)
-    rail_curv_transverse: float = float("nan")   # 1/m, rail profile curvature (convex > 0)
 
 
 @dataclass

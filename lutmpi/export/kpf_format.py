@@ -17,7 +17,7 @@ profile input data") and *Users Manual for Program KPF_ROT* (https://gensys.se/d
 * rail: origin on the rail surface GAUGE_TO_ORIGO = 32.5 mm (standard gauge) laterally from the
   gauge measuring point, which is the point nearest the track centre between the top of rail and
   GAUGE_MEAS_INTERVAL = 14 mm below it; Z(Y = 0) = 0. The origin is the rail's nominal running
-  circle, half the distance between the tape circles minus half the gauge from the gauge point.
+  circle: the wheel's tape circle (GAUGE_TO_ORIGO = tape-circle distance minus half the gauge).
 
 The file extensions are KPF's: ``.wheel`` and ``.rail``. This is a profile pair, not GENSYS's own
 contact-function file (``*.kpfr``), whose layout the public manual excerpts available here do not
@@ -57,21 +57,28 @@ def rail_columns(u: np.ndarray, z: np.ndarray, origin_u: float) -> tuple[np.ndar
     return y, zz - float(np.interp(0.0, y, zz))
 
 
-def pair_columns(config_toml: str) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """``{"wheel": (Y, Z), "rail": (Y, Z)}`` in m for a table's resolved configuration."""
+def side_columns(config_toml: str) -> dict[str, dict[str, tuple[np.ndarray, np.ndarray]]]:
+    """``side -> {"wheel": (Y, Z), "rail": (Y, Z)}`` in m for a table's resolved configuration
+    (each side as placed: its own profile, wear, inclination and gauge point)."""
+    from lutmpi.scene import Scene
+
+    scene = Scene.from_config(table_config(config_toml))
+    out = {}
+    for name, side in scene.sides.items():
+        wheel, rail = side.wheel, side.rail
+        out[name] = {"wheel": wheel_columns(np.asarray(wheel.profile.y),
+                                            np.asarray(wheel.profile.z)),
+                     "rail": rail_columns(np.asarray(rail.u), np.asarray(rail.z), wheel.d)}
+    return out
+
+
+def table_config(config_toml: str) -> Any:
+    """The :class:`~lutmpi.config.model.Config` a table stores (its resolved TOML)."""
     import tomllib
 
     from lutmpi.config.load import config_from_dict
-    from lutmpi.geometry.track import PlacedRail
-    from lutmpi.scene import load_scene_profiles
 
-    cfg = config_from_dict(tomllib.loads(config_toml))
-    wheel, rail = load_scene_profiles(cfg)
-    placed = PlacedRail.place(rail, cfg.rail.inclination_rad, cfg.track.gauge_mm * 1e-3,
-                              cfg.track.gauge_depth_mm * 1e-3)
-    origin_u = cfg.wheelset.tape_half_distance_m
-    return {"wheel": wheel_columns(np.asarray(wheel.y), np.asarray(wheel.z)),
-            "rail": rail_columns(np.asarray(placed.u), np.asarray(placed.z), origin_u)}
+    return config_from_dict(tomllib.loads(config_toml))
 
 
 def _write(path: Path, y: np.ndarray, z: np.ndarray, lines: list[str]) -> Path:
@@ -84,16 +91,24 @@ def _write(path: Path, y: np.ndarray, z: np.ndarray, lines: list[str]) -> Path:
 
 
 def write(table: Any, out: Path, **_: Any) -> list[Path]:
-    """Write ``<stem>.wheel`` and ``<stem>.rail`` (``out`` a directory or a stem)."""
+    """Write ``<stem>.wheel`` and ``<stem>.rail`` (``out`` a directory or a stem); a pair whose
+    sides differ gives ``<stem>_left.wheel``, ``<stem>_right.wheel``, ... (KPF's Y runs toward
+    the track centre on both sides, so one file serves both when they are mirror images)."""
     from lutmpi.reports.pair import pair_info
 
     stem = out / Path(table.path).stem if out.is_dir() else out.with_suffix("")
-    cols = pair_columns(table.config_toml)
+    sides = side_columns(table.config_toml)
+    same = all(np.array_equal(sides["left"][k][i], sides["right"][k][i])
+               for k in ("wheel", "rail") for i in (0, 1))
     head = [f"lutmpi export of {table.path}: {pair_info(table.config_toml).title}",
             "GENSYS KPF profile: Y [mm] toward the track centre, Z [mm] downwards"]
-    return [
-        _write(stem.with_suffix(".wheel"), *cols["wheel"],
-               head + ["origin: nominal running circle (tape circle); Z = radius increase"]),
-        _write(stem.with_suffix(".rail"), *cols["rail"],
-               head + ["origin: rail surface 32.5 mm (GAUGE_TO_ORIGO) outside the gauge point"]),
-    ]
+    paths = []
+    for name in (("left",) if same else ("left", "right")):
+        base = stem if same else stem.with_name(f"{stem.name}_{name}")
+        side = "" if same else f"{name} side; "
+        paths.append(_write(base.with_suffix(".wheel"), *sides[name]["wheel"], head + [
+            f"{side}origin: nominal running circle (tape circle); Z = radius increase"]))
+        paths.append(_write(base.with_suffix(".rail"), *sides[name]["rail"], head + [
+            f"{side}origin: rail surface at the nominal running circle (GAUGE_TO_ORIGO "
+            "outside the gauge point)"]))
+    return paths

@@ -51,7 +51,7 @@ from lutmpi.parallel.writer import TableWriter
 from lutmpi.table.compute import Solver, compute_points, default_solver
 from lutmpi.table.grid import Grid
 from lutmpi.table.provenance import input_record
-from lutmpi.table.schema import SCHEMA_VERSION, select_fields
+from lutmpi.table.schema import SCHEMA_VERSION, D, select_fields
 
 log = logging.getLogger(__name__)
 
@@ -76,7 +76,8 @@ class BuildSummary:
 
     @property
     def parallel_efficiency(self) -> float:
-        """Sum of busy time over ``ranks * wall time``."""
+        """Sum of busy time over ``ranks * wall time``: the busy fraction of the ranks (not a
+        speed-up against one rank; ``benchmarks/strong_scaling.py`` measures that)."""
         return sum(self.busy_s) / (self.ranks * self.wall_time_s) if self.wall_time_s > 0 else 0.0
 
     @property
@@ -312,7 +313,7 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
                wall: float) -> BuildSummary:
     counts = np.zeros(len(STATUS), dtype=np.int64)
     for rec in writer.blocks.values():
-        codes = rec["status"].ravel().astype(np.int64)
+        codes = rec[D.status].ravel().astype(np.int64)
         counts += np.bincount(codes[(codes >= 0) & (codes < len(STATUS))], minlength=len(STATUS))
     counts = comm.allreduce(counts)
     names = {code: text.split(":")[0] for code, text in STATUS.items()}
@@ -325,8 +326,13 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
         log.info("table %s: %d points (%d computed, %d reused) x %d method(s); status %s",
                  out, summary.points, computed, summary.reused, len(writer.methods),
                  summary.status_counts)
-        log.info("wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; parallel "
-                 "efficiency %.1f %%", wall, comm.size,
+        # names that say what they are: busy/(ranks x wall) is how busy the ranks were, not a
+        # speed-up; summed busy / wall is the speed-up over one rank only if a point costs the
+        # same with N ranks busy (measure it: benchmarks/strong_scaling.py)
+        log.info("wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; busy fraction "
+                 "%.1f %%; summed busy / wall %.2f (the speed-up over 1 rank if points cost the "
+                 "same on N)", wall, comm.size,
                  "[" + ", ".join(f"{b:.2f}" for b in summary.busy_s) + "]",
-                 summary.imbalance, 100 * summary.parallel_efficiency)
+                 summary.imbalance, 100 * summary.parallel_efficiency,
+                 sum(summary.busy_s) / wall if wall > 0 else 0.0)
     return summary

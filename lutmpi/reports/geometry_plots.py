@@ -71,20 +71,26 @@ def per_contact(y: np.ndarray, values: np.ndarray, mask: np.ndarray, title: str,
     return _save(fig, path)
 
 
-def contact_map(y: np.ndarray, profiles: Mapping[str, tuple[np.ndarray, np.ndarray]],
+def contact_map(y: np.ndarray, profiles: Mapping[str, Mapping[str, tuple[np.ndarray, np.ndarray]]],
                 points: Mapping[str, np.ndarray], case: str, path: Path) -> Path:
     """Where the contacts sit on the wheel and on the rail profile, coloured by y.
 
-    ``profiles["wheel"] = (s, dr)``, ``profiles["rail"] = (v, z)`` in m (lutmpi's profile
-    coordinates: positive toward the field side); ``points["wheel"]``, ``points["rail"]`` are the
-    contact coordinates ``(n, 2 sides, 2 slots)``, m."""
+    ``profiles[side]["wheel"] = (s, dr)``, ``profiles[side]["rail"] = (v, z)`` in m (lutmpi's
+    profile coordinates: positive toward the field side); ``points["wheel"]``, ``points["rail"]``
+    are the contact coordinates ``(n, 2 sides, 2 slots)``, m. Each side's contacts sit on that
+    side's profile (drawn twice when the sides differ)."""
     fig, axes = plt.subplots(2, 1, figsize=(8.0, 7.5), constrained_layout=True)
     norm = plt.Normalize(y.min() * 1e3, y.max() * 1e3)
+    sc = None
     for ax, part in zip(axes, ("wheel", "rail"), strict=True):
-        px, pz = profiles[part]
-        ax.plot(px * 1e3, pz * 1e3, color="0.4", lw=1)
+        same = all(np.array_equal(profiles["left"][part][k], profiles["right"][part][k])
+                   for k in (0, 1))
         coord = np.asarray(points[part], float)
         for i, side in enumerate(SIDES):
+            px, pz = profiles[side][part]
+            if i == 0 or not same:
+                ax.plot(px * 1e3, pz * 1e3, color="0.4", lw=1, ls="-" if i == 0 else "--",
+                        label=None if same else f"{side} {part} profile")
             for slot in (0, 1):
                 c = coord[:, i, slot]
                 ok = np.isfinite(c)
@@ -101,7 +107,8 @@ def contact_map(y: np.ndarray, profiles: Mapping[str, tuple[np.ndarray, np.ndarr
         ax.set_ylabel("radius increase [mm]" if part == "wheel" else "height [mm]")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="best")
-    fig.colorbar(sc, ax=axes, label="lateral shift y [mm]")
+    if sc is not None:
+        fig.colorbar(sc, ax=axes, label="lateral shift y [mm]")
     axes[0].set_title(f"Contact points on the wheel and rail profiles, yaw 0\n{case}", fontsize=9)
     return _save(fig, path)
 

@@ -60,14 +60,14 @@ def plot_track(scene, out: str | Path, y: float = 0.0, title: str | None = None)
     ax0.set_ylim(-60, 60)
     ax0.set_xlim(-820, 820)
     ax0.set_title(title or f"y = {y * 1e3:.2f} mm, yaw 0: z_g = {res.z_g * 1e3:.3f} mm, "
-                           f"roll = {res.roll:.2e} rad (rigid contact)")
+                           f"roll = {np.degrees(res.roll):.4f} deg (rigid contact)")
     g = scene.side("left").rail.gauge / 2 * 1e3
     axl.set_xlim(g - 25, g + 80)
     axr.set_xlim(-g - 80, -g + 25)
     for ax, name in ((axl, "left"), (axr, "right")):
         ax.set_ylim(-45, 25)
         cs = res.contacts[name]
-        txt = ", ".join(f"s = {c.wheel_s * 1e3:.2f} mm, angle {c.contact_angle:.3f} rad"
+        txt = ", ".join(f"s = {c.wheel_s * 1e3:.2f} mm, angle {np.degrees(c.contact_angle):.2f} deg"
                         for c in cs)
         ax.set_title(f"{name}: {txt}", fontsize=9)
     fig.tight_layout()

@@ -15,21 +15,24 @@ import numpy as np
 
 from lutmpi.equilibrium.result import SIDES, PoseResult
 from lutmpi.table.grid import Grid
-from lutmpi.table.schema import N_SLOTS, Field
+from lutmpi.table.schema import FIELDS_BY_NAME, N_SLOTS, D, Field
 
 Solver = Callable[[Any, float, float, str], PoseResult]
 Records = dict[str, dict[str, np.ndarray]]   # method -> field name -> array (n_points, *suffix)
 
-_POINT_ATTRS = {"x_g": "x_g", "z_g": "z_g", "roll": "roll", "pitch": "pitch", "status": "status",
-                "iterations": "nit", "compute_time": "time", "kc": "kc",
-                "indentation_max": "indentation", "n_roots": "n_roots"}
-_CONTACT_ATTRS = {"wheel_point": "wheel_point", "rail_point": "rail_point", "normal": "normal",
-                  "indentation": "indentation", "kc_contact": "kc", "force": "force",
-                  "rolling_radius": "rolling_radius", "contact_angle": "contact_angle",
-                  "wheel_s": "wheel_s", "rail_v": "rail_v",
-                  "curv_wheel_rolling": "wheel_curv_rolling",
-                  "curv_wheel_transverse": "wheel_curv_transverse",
-                  "curv_rail_transverse": "rail_curv_transverse"}
+#: a dataset is read from the :class:`PoseResult` (per point) or :class:`ContactResult` (per
+#: contact) attribute of the same name; these datasets keep older attribute names (dataset -> attr)
+ATTRIBUTE_OF = {D.iterations: "nit", D.compute_time: "time", D.indentation_max: "indentation",
+                D.kc_contact: "kc", D.curv_wheel_rolling: "wheel_curv_rolling",
+                D.curv_wheel_transverse: "wheel_curv_transverse",
+                D.curv_rail_transverse: "rail_curv_transverse"}
+#: point datasets that are not an attribute of the result (filled from its contacts)
+DERIVED = (D.n_contacts,)
+
+
+def result_attribute(name: str) -> str:
+    """The result attribute a dataset is read from (its own name unless in :data:`ATTRIBUTE_OF`)."""
+    return ATTRIBUTE_OF.get(name, name)
 
 
 def default_solver() -> Solver:
@@ -67,12 +70,14 @@ def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
     Contacts of each wheel are ordered by decreasing normal force (stable): slot 0 is the primary
     contact. Slots beyond :data:`N_SLOTS` are dropped but counted in ``n_contacts``.
     """
-    for name, attr in _POINT_ATTRS.items():
-        if name in out:
-            out[name][i] = getattr(result, attr)
-    if "n_contacts" in out:
-        out["n_contacts"][i] = [len(result.contacts.get(s, [])) for s in SIDES]
-    wanted = [(name, attr) for name, attr in _CONTACT_ATTRS.items() if name in out]
+    wanted = []
+    for name, arr in out.items():
+        if FIELDS_BY_NAME[name].per_contact:
+            wanted.append((name, result_attribute(name)))
+        elif name not in DERIVED:
+            arr[i] = getattr(result, result_attribute(name))
+    if D.n_contacts in out:
+        out[D.n_contacts][i] = [len(result.contacts.get(s, [])) for s in SIDES]
     if not wanted:
         return
     for iside, side in enumerate(SIDES):

@@ -6,10 +6,10 @@ Pure: no MPI, no HDF5.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from lutmpi.config.model import GridConfig
 from lutmpi.errors import ConfigError
 
 
@@ -38,8 +38,9 @@ class Grid:
     yaw: np.ndarray
 
     @classmethod
-    def from_config(cls, grid: GridConfig) -> Grid:
-        """Build the grid from ``[grid]`` (``y_mm`` in mm, ``yaw_rad`` in rad)."""
+    def from_config(cls, grid: Any) -> Grid:
+        """Build the grid from ``[grid]`` (:class:`lutmpi.config.model.GridConfig`: ``y_mm`` in
+        mm, ``yaw_rad`` in rad; not imported here, the table core stays below the config)."""
         return cls(_axis(grid.y_mm, 1e-3, "grid.y_mm"), _axis(grid.yaw_rad, 1.0, "grid.yaw_rad"))
 
     @property

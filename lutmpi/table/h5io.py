@@ -31,7 +31,16 @@ from h5py import h5d, h5fd, h5p, h5s
 
 from lutmpi.errors import TableError
 from lutmpi.table.grid import Grid
-from lutmpi.table.schema import FIELDS, SCHEMA_VERSION, Field, dataset_attributes
+from lutmpi.table.schema import (
+    AXES,
+    FIELDS,
+    SCHEMA_VERSION,
+    Y_AXIS,
+    YAW_AXIS,
+    D,
+    Field,
+    dataset_attributes,
+)
 
 # bytes per point per method of a full table, plus slack; used for the free-space check
 _BYTES_PER_POINT = 8 * 200
@@ -108,8 +117,9 @@ def create_partial(path: Path, io: SerialH5, rank: int, grid: Grid, methods: Seq
         for key, value in attrs.items():
             f.attrs[key] = value
         f.attrs["complete"] = False
-        for name, values, units, desc in (("y", grid.y, "m", "lateral shift y_g of the wheelset"),
-                                          ("yaw", grid.yaw, "rad", "yaw angle theta_z")):
+        for name, values, units, desc in (
+                (Y_AXIS, grid.y, "m", "lateral shift y_g of the wheelset"),
+                (YAW_AXIS, grid.yaw, "rad", "yaw angle theta_z")):
             d = f.create_dataset(name, shape=values.shape, dtype="f8")
             d.attrs["units"], d.attrs["description"] = units, desc
             write_rows(d, 0, values if rank == 0 else values[:0], io.xfer())
@@ -124,8 +134,8 @@ def create_partial(path: Path, io: SerialH5, rank: int, grid: Grid, methods: Seq
                                      fillvalue=fld.fill, dcpl=dcpl, fill_time="alloc")
                 for key, value in dataset_attributes(fld).items():
                     d.attrs[key] = value
-                d.dims[0].attach_scale(f["y"])
-                d.dims[1].attach_scale(f["yaw"])
+                d.dims[0].attach_scale(f[Y_AXIS])
+                d.dims[1].attach_scale(f[YAW_AXIS])
 
 
 def write_blocks(f: h5py.File, io: SerialH5, row_start: int,
@@ -218,14 +228,14 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
     if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
         raise TableError(f"{path}: damaged table: root attribute 'methods' = {names!r} is not "
                          "a non-empty list of names")
-    y, yaw = (_dataset(f, path, k, 1) for k in ("y", "yaw"))
+    y, yaw = (_dataset(f, path, k, 1) for k in AXES)
     methods, meta = {}, {}
     for name in names:
         if not isinstance(f.get(name), h5py.Group):
             raise TableError(f"{path}: damaged table: group /{name} (method {name}) is missing")
         g = f[name]
-        if "status" not in g:
-            raise TableError(f"{path}: damaged table: dataset /{name}/status is missing")
+        if D.status not in g:
+            raise TableError(f"{path}: damaged table: dataset /{name}/{D.status} is missing")
         order = [fld.name for fld in FIELDS if fld.name in g]
         methods[name] = {}
         for k in order:
@@ -236,7 +246,7 @@ def _read_open_table(f: h5py.File, path: Path) -> dict[str, Any]:
             methods[name][k] = arr
         meta[name] = {k: {a: _plain(v) for a, v in g[k].attrs.items()
                           if a not in ("DIMENSION_LIST",)} for k in order}
-    return {"attrs": attrs, "y": y, "yaw": yaw, "methods": methods, "meta": meta}
+    return {"attrs": attrs, Y_AXIS: y, YAW_AXIS: yaw, "methods": methods, "meta": meta}
 
 
 def _journal_note(path: Path) -> str:

@@ -120,6 +120,11 @@ QUANTITY_FIELDS: dict[str, tuple[str, ...]] = {
 }
 #: stored whatever ``[output] quantities`` says (:data:`lutmpi.config.model.ALWAYS_STORED`)
 ALWAYS_STORED = ("status", "iterations", "compute_time")
+#: every selectable ``[output] quantities`` name, derived from :data:`FIELDS` in schema order: a
+#: field's group of :data:`QUANTITY_FIELDS` or the field itself, the always-stored ones left out
+QUANTITIES: tuple[str, ...] = tuple(dict.fromkeys(
+    next((q for q, names in QUANTITY_FIELDS.items() if f.name in names), f.name)
+    for f in FIELDS if f.name not in ALWAYS_STORED))
 CONTACT_DIMS = "y, yaw, side [0=left, 1=right], slot [0=largest force, 1=second contact]"
 
 
@@ -134,7 +139,7 @@ def select_fields(quantities: Iterable[str]) -> tuple[Field, ...]:
     Parameters
     ----------
     quantities : iterable of str
-        ``("all",)`` or names from :data:`lutmpi.config.model.QUANTITIES` (or dataset names);
+        ``("all",)`` or names from :data:`QUANTITIES` (or dataset names);
         :data:`ALWAYS_STORED` are always added.
 
     Returns
@@ -147,8 +152,6 @@ def select_fields(quantities: Iterable[str]) -> tuple[Field, ...]:
     ConfigError
         On an unknown name (the message lists the valid ones).
     """
-    from lutmpi.config.model import QUANTITIES
-
     wanted = set(quantities)
     if "all" in wanted:
         return FIELDS
@@ -185,6 +188,9 @@ def dataset_attributes(field: Field) -> dict[str, str]:
 #: ``D.rolling_radius == "rolling_radius"``: code outside this module names datasets through ``D``,
 #: so a renamed or removed field fails where it is used instead of reading a missing key
 D = namedtuple("DatasetNames", [f.name for f in FIELDS])(*(f.name for f in FIELDS))
+#: the root datasets: the table's axes and dimension scales, ``/y`` (m) and ``/yaw`` (rad)
+Y_AXIS, YAW_AXIS = "y", "yaw"
+AXES = (Y_AXIS, YAW_AXIS)
 
 
 # -- contact jumps (issue 11): /<method>/jumps/ -----------------------------------------------
@@ -227,6 +233,9 @@ JUMP_FIELDS_BY_NAME = {f.name: f for f in JUMP_FIELDS}
 KNOT_FIELD = JumpField("knot_y", "f8", "m", "extra knot position: a pose solved after the build "
                        "(jump bisection or refinement), sorted per yaw, NaN padded")
 KNOTS_GROUP = "knots"
+#: ``J.jump_y == "jump_y"``: the datasets of ``/<method>/jumps/`` by name, as :data:`D`
+J = namedtuple("JumpDatasetNames", [f.name for f in JUMP_FIELDS + (KNOT_FIELD,)])(
+    *(f.name for f in JUMP_FIELDS + (KNOT_FIELD,)))
 #: dims of every limit dataset ``/<method>/jumps/limits/<field>``: shape (nyaw, K, 2) + suffix
 LIMIT_DIMS = "yaw, jump, side of the jump [0 = at jump_y_lo, 1 = at jump_y_hi], field dims"
 

@@ -21,9 +21,11 @@ from tests.support.tables import datasets
 CONFIG = """
 [wheel]
 generator = "S1002"
+{wheel_side}
 [rail]
 generator = "UIC60"
 inclination = "{cant}"
+{rail_side}
 [grid]
 y_mm = [-8.0, 8.0, 9]
 yaw_rad = [-0.01, 0.01, 3]
@@ -38,9 +40,11 @@ methods = ["load_centre", "reference"]
 """
 
 
-def _build(tmp, name: str, cant: str = "1:40", wear: str = "") -> str:
+def _build(tmp, name: str, cant: str = "1:40", wear: str = "", wheel_side: str = "",
+           rail_side: str = "") -> str:
     cfg = tmp / f"{name}.toml"
-    cfg.write_text(CONFIG.format(cant=cant, wear=wear))
+    cfg.write_text(CONFIG.format(cant=cant, wear=wear, wheel_side=wheel_side,
+                                 rail_side=rail_side))
     out = tmp / f"{name}.h5"
     assert cli(["build", str(cfg), "-o", str(out)]) == 0
     return str(out)
@@ -49,13 +53,16 @@ def _build(tmp, name: str, cant: str = "1:40", wear: str = "") -> str:
 @pytest.fixture(scope="module")
 def tables(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("export")
-    # a symmetric pair and a worn one (flange thinning + hollow tread: a different Δr(y))
+    # a symmetric pair, a worn one (flange thinning + hollow tread: a different Δr(y)) and an
+    # asymmetric one (left wheel 2 mm smaller in diameter, right rail at 1:20, left at 1:40)
     return {"new": _build(tmp, "new"),
             "worn": _build(tmp, "worn", "1:20",
-                           "[wear.wheel]\nflange_thinning_mm = 2.0\ntread_hollowing_mm = 1.0")}
+                           "[wear.wheel]\nflange_thinning_mm = 2.0\ntread_hollowing_mm = 1.0"),
+            "asym": _build(tmp, "asym", wheel_side="[wheel.left]\nnominal_radius_mm = 459.0",
+                           rail_side="[rail.right]\ninclination = \"1:20\"")}
 
 
-@pytest.mark.parametrize("case", ["new", "worn"])
+@pytest.mark.parametrize("case", ["new", "worn", "asym"])
 def test_mat_reads_back_every_dataset_equal_to_the_hdf5(tables, tmp_path, case):
     assert cli(["export", tables[case], "--format", "mat", "-o", str(tmp_path / "t.mat")]) == 0
     mat = scipy.io.loadmat(tmp_path / "t.mat", simplify_cells=True)
@@ -84,7 +91,7 @@ def _read_csv(path):
     return list(csv.DictReader(lines))
 
 
-@pytest.mark.parametrize("case", ["new", "worn"])
+@pytest.mark.parametrize("case", ["new", "worn", "asym"])
 def test_csv_columns_are_the_schema_in_mm_and_deg(tables, tmp_path, case):
     out = tmp_path / "f.csv"
     assert cli(["export", tables[case], "--format", "csv", "-o", str(out)]) == 0
@@ -151,3 +158,20 @@ def test_kpf_rail_origin_and_gauge_point(tables, tmp_path):
     # at +-750 mm and gauge 1435 mm; the samples are 0.1 mm apart
     assert near[:, 0].max() == pytest.approx(32.5, abs=0.1)
     assert top <= 0.0
+
+
+def test_kpf_asymmetric_pair_writes_each_side(tables, tmp_path):
+    assert cli(["export", tables["asym"], "--format", "kpf", "-o", str(tmp_path / "p")]) == 0
+    files = {s: {k: np.loadtxt(tmp_path / f"p_{s}.{k}") for k in ("wheel", "rail")}
+             for s in ("left", "right")}
+    assert not (tmp_path / "p.wheel").exists()
+    # the same S1002 on both wheels: the radius increase is relative to each wheel's own tape
+    # circle, so the files are equal; the rails differ by their inclination (1:40 vs 1:20):
+    # over the 70 mm head the slope difference atan(1/20) - atan(1/40) moves points by ~0.9 mm
+    np.testing.assert_allclose(files["left"]["wheel"], files["right"]["wheel"])
+    assert not np.array_equal(files["left"]["rail"], files["right"]["rail"])
+    for s in ("left", "right"):
+        r = files[s]["rail"]
+        top = r[:, 1].min()
+        near = r[(r[:, 1] >= top) & (r[:, 1] <= top + 14.0)]
+        assert near[:, 0].max() == pytest.approx(32.5, abs=0.1), s

@@ -224,7 +224,7 @@ def test_measured_pairs_no_hole_and_reference_agrees(rail):
 @pytest.mark.slow
 @pytest.mark.parametrize("rail", RAILS, ids=[r[0] for r in RAILS])
 def test_measured_pairs_fine_y(rail):
-    """The same at every 0.25 mm (~1 min per rail)."""
+    """The same at every 0.25 mm (~6 s per rail on a loaded 2-core machine)."""
     bad = {}
     for wf in WHEELS:
         b = _check_pair(_pair_scene(wf, rail), np.arange(-9.0, 9.01, 0.25) * MM)

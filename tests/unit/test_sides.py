@@ -193,3 +193,18 @@ def test_sweep_over_per_side_keys(tmp_path):
                   round(m.config.rail.side("left").inclination_rad, 6)) for m in members)
     assert got == [(459.0, 0.024995), (459.0, 0.03), (460.0, 0.024995), (460.0, 0.03)]
     assert all(m.config.wheel.side("left").nominal_radius_mm == 460.0 for m in members)
+
+
+def test_per_side_wear():
+    cfg = _cfg({"wheel": {"generator": "S1002"}, "rail": {"generator": "UIC60"},
+                "wear": {"wheel": {"right": {"flange_thinning_mm": 2.0}},
+                         "rail": {"side_mm": 1.0, "left": {"side_mm": 0.0}}}})
+    scene = Scene.from_config(cfg)
+    left, right = scene.side("left"), scene.side("right")
+    assert "wear" not in left.wheel.profile.meta
+    assert right.wheel.profile.meta["wear"][0]["type"] == "flange_thinning"
+    assert "wear" not in left.rail.profile.meta and "wear" in right.rail.profile.meta
+    with pytest.raises(ConfigError) as err:
+        _cfg({"wheel": {"generator": "S1002"}, "rail": {"generator": "UIC60"},
+              "wear": {"wheel": {"left": {"flange_thinning_mm": 99.0}}}})
+    assert err.value.key == "wear.wheel.left.flange_thinning_mm"

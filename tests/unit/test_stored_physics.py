@@ -73,7 +73,7 @@ def table(tmp_path_factory) -> dict:
     with h5py.File(out, "r") as f:
         res["y"], res["yaw"] = f["y"][...], f["yaw"][...]
         for m in (*MESH, "reference"):
-            res[m] = {k: v[...] for k, v in f[m].items()}
+            res[m] = {k: v[...] for k, v in f[m].items() if isinstance(v, h5py.Dataset)}
     return res
 
 

@@ -67,7 +67,8 @@ class MeshMethod(ContactMethod):
     ----------
     kernel : callable
         Compiled ``kernel(win: WindowArrays, wheel: WheelArrays, rail: RailArrays, pose: Pose)
-        -> Contacts``: the contacts of one wheel.
+        -> (n, buf)``: the contacts of one wheel, :func:`~lutmpi.contact.kernels.packed` from
+        their :class:`~lutmpi.contact.kernels.Contacts`.
     indentation_rate : float
         d(indentation)/d(approach) of the method's C (1 for a point indentation; 1/2 for the
         load centre, the mean separation of two paraboloidal caps).
@@ -87,20 +88,20 @@ class MeshMethod(ContactMethod):
                  max_contacts: int = 2) -> list[MeshContact]:
         """Contacts of the window's wheel at the pose (``centre``, ``R``), largest indentation
         first, at most ``max_contacts``."""
-        out = self.kernel(win.arrays, wmesh.arrays, rmesh.arrays, Pose(centre, R))
+        n, buf = self.kernel(win.arrays, wmesh.arrays, rmesh.arrays, Pose(centre, R))
         found = [
             MeshContact(
-                wheel_point=out.wheel_point[g].copy(),
-                rail_point=out.rail_point[g].copy(),
-                n_wheel=out.n_wheel[g].copy(),
-                indentation=float(out.C[g]),
-                s=float(out.s[g]),
-                u_rail=float(win.side * out.rail_point[g, 1]),
-                n_wheel_nodes=int(out.n_wheel_nodes[g]),
-                n_rail_nodes=int(out.n_rail_nodes[g]),
+                wheel_point=row[0:3],
+                rail_point=row[3:6],
+                n_wheel=row[6:9],
+                indentation=float(row[9]),
+                s=float(row[10]),
+                u_rail=float(win.side * row[4]),
+                n_wheel_nodes=int(row[11]),
+                n_rail_nodes=int(row[12]),
             )
-            for g in range(out.n)
-            if out.C[g] > 0.0
+            for row in buf[:n]
+            if row[9] > 0.0
         ]
         found.sort(key=lambda c: -c.indentation)
         return found[:max_contacts]

@@ -14,6 +14,7 @@ from lutmpi.contact.kernels import (
     K_NEAR,
     _nearest_slice,
     empty_contacts,
+    packed,
     search_wheel_nodes,
     wheel_normal,
 )
@@ -68,7 +69,7 @@ def contacts(win, wheel, rail, pose):
     ws = search_wheel_nodes(win, rail, pose)
     out = empty_contacts(ws)
     if ws.nvol == 0:
-        return out
+        return packed(out)
     WP, RP = out.wheel_point, out.rail_point
     for i in range(ws.vol.size):
         g = ws.vol[i]
@@ -100,7 +101,7 @@ def contacts(win, wheel, rail, pose):
             + (WP[g, 1] - RP[g, 1]) * nwv[1]
             + (WP[g, 2] - RP[g, 2]) * nwv[2]
         )
-    return out
+    return packed(out)
 
 
 METHOD = MeshMethod("load_centre", "centroids of the intersecting volume, eqs. (6)-(7)",

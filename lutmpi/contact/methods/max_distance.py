@@ -5,7 +5,12 @@ from __future__ import annotations
 
 from numba import njit
 
-from lutmpi.contact.kernels import empty_contacts, search_wheel_nodes, set_profile_coordinates
+from lutmpi.contact.kernels import (
+    empty_contacts,
+    packed,
+    search_wheel_nodes,
+    set_profile_coordinates,
+)
 from lutmpi.contact.methods.base import MeshMethod
 
 
@@ -28,7 +33,7 @@ def contacts(win, wheel, rail, pose):
             out.rail_point[g] = Pj[i]
             out.n_wheel[g] = N[i]
     set_profile_coordinates(out, win.side, pose, wheel)
-    return out
+    return packed(out)
 
 
 METHOD = MeshMethod("max_distance", "largest wheel-node penetration, eq. (3)", kernel=contacts)

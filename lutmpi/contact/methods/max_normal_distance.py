@@ -8,7 +8,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from lutmpi.contact.kernels import empty_contacts, search_wheel_nodes, set_profile_coordinates
+from lutmpi.contact.kernels import (
+    empty_contacts,
+    packed,
+    search_wheel_nodes,
+    set_profile_coordinates,
+)
 from lutmpi.contact.methods.base import MeshMethod
 
 
@@ -55,7 +60,7 @@ def contacts(win, wheel, rail, pose):
             out.rail_point[g] = rp
             out.n_wheel[g] = N[i]
     set_profile_coordinates(out, win.side, pose, wheel)
-    return out
+    return packed(out)
 
 
 METHOD = MeshMethod("max_normal_distance",
