@@ -54,7 +54,6 @@ T_API = "tests/unit/test_table_api.py"
 T_PARITY = "tests/unit/test_table_parity.py"
 T_PART = "tests/unit/test_table_partition.py"
 T_SCHEMA = "tests/unit/test_table_schema.py"
-T_WRITER = "tests/unit/test_table_writer.py"
 T_INTERP = "tests/unit/test_interp_nearest.py"
 T_BATCH = ("tests/integration/test_real_solver_parity.py::"
            "test_static_split_with_multi_point_batches_equals_serial")
@@ -115,8 +114,8 @@ MUTATIONS: tuple[Mutation, ...] = (
       "    if out.q_extrapolated is not None:", "    if False:", (T_STORED, T_CLOSED),
       "stored pose not extrapolated to zero indentation"),
     # -- flange stiffness (§4.5) ----------------------------------------------------------------
-    M("chi_0p5", "flange stiffness", "lutmpi/scene.py",
-      "chi = paper_flange_chi() if f.enabled else 1.0", "chi = 0.5 if f.enabled else 1.0",
+    M("chi_0p5", "flange stiffness", "lutmpi/scene_config.py",
+      "chi=paper_flange_chi() if f.enabled else 1.0", "chi=0.5 if f.enabled else 1.0",
       (T_STORED, T_STIFF), "χ = 0.5 instead of the paper's 0.082"),
     M("flange_interp_reversed", "flange stiffness", "lutmpi/contact/stiffness.py",
       "[r_base, r_tip], [1.0, chi])", "[r_base, r_tip], [chi, 1.0])", (T_STORED, T_STIFF),
@@ -163,12 +162,12 @@ MUTATIONS: tuple[Mutation, ...] = (
       "        return float(min(cands))", "        return float(max(cands))",
       (T_TRACK, T_STORED), "gauge point: the farthest crossing instead of the nearest"),
     M("rolling_curvature", "geometry", "lutmpi/contact/records.py",
-      "wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + dr * dr)),",
+      "wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + d * d)),",
       "wheel_curv_rolling=1.0 / r,", (T_STORED,),
       "rolling curvature without Meusnier's cos(slope)"),
     M("contact_angle_sign", "geometry", "lutmpi/contact/records.py",
-      "contact_angle=float(np.arctan2(-side * normal[1], normal[2])),",
-      "contact_angle=float(np.arctan2(side * normal[1], normal[2])),", (T_STORED,),
+      "contact_angle=float(np.arctan2(-sg * n[1], n[2])),",
+      "contact_angle=float(np.arctan2(sg * n[1], n[2])),", (T_STORED,),
       "contact angle positive toward the field side"),
     # -- conicity integration (EN 15302 Annex B) ------------------------------------------------
     M("conicity_jacobian", "conicity", "lutmpi/reports/conicity.py",
@@ -195,13 +194,13 @@ MUTATIONS: tuple[Mutation, ...] = (
       "key=lambda c: -float(c.force))", "key=lambda c: float(c.force))",
       (T_API, T_PARITY, T_STORED), "slot 0 holds the smaller contact force"),
     M("record_sides", "table writer", "lutmpi/table/compute.py",
-      "out[\"n_contacts\"][i] = [len(result.contacts.get(s, [])) for s in SIDES]",
-      "out[\"n_contacts\"][i] = [len(result.contacts.get(s, [])) for s in SIDES[::-1]]",
+      "out[D.n_contacts][i] = [len(result.contacts.get(s, [])) for s in SIDES]",
+      "out[D.n_contacts][i] = [len(result.contacts.get(s, [])) for s in SIDES[::-1]]",
       (T_API, T_PARITY, T_STORED), "n_contacts stored [right, left]"),
     M("writer_row_offset", "table writer", "lutmpi/parallel/writer.py",
       "                        self.blocks[m][k][rows, iyaw] = v",
       "                        self.blocks[m][k][rows, iyaw[::-1]] = v",
-      (T_API, T_PARITY, T_STORED, T_WRITER, T_BATCH),
+      (T_API, T_PARITY, T_STORED, T_BATCH),
       "writer puts the points of a batch in mirrored yaw columns"),
     M("reader_mask", "table reader", "lutmpi/table/api.py",
       "        source = self.data[method] if raw else self._masked[method]",
@@ -264,7 +263,8 @@ def _run_tests(root: Path, tests: tuple[str, ...], timeout: float) -> tuple[str,
         return "survived", dt, last
     if r.returncode == 5:
         return "no tests", dt, last
-    return "killed", dt, last
+    failed = [ln for ln in r.stdout.splitlines() if ln.startswith(("FAILED", "ERROR"))]
+    return "killed", dt, (failed[0] + " -- " if failed else "") + last
 
 
 def run(selected: list[Mutation], timeout: float, check_only: bool) -> list[dict]:

@@ -35,6 +35,7 @@ yaw_rad = [-0.12, 0.12, 5]
 [contact]
 method = "load_centre"
 [output]
+refine = false    # the grid is under test; jumps are still located
 methods = ["load_centre", "max_normal_distance", "reference"]
 """
 

@@ -72,9 +72,8 @@ def _recompute(out: Path, member: str, ref: str = "m-reference") -> dict[str, fl
     def group(name):
         with h5py.File(out / f"{name}.h5", "r") as f:
             method = json.loads(f.attrs["methods"])[0]
-            # the datasets only: issue 11 added a jumps/ subgroup to every method group
-            return ({k: v[...] for k, v in f[method].items() if isinstance(v, h5py.Dataset)},
-                    f.attrs["wall_time_s"])
+            return {k: v[...] for k, v in f[method].items()
+                    if isinstance(v, h5py.Dataset)}, f.attrs["wall_time_s"]
 
     a, _ = group(member)
     b, _ = group(ref)
