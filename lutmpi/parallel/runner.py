@@ -235,7 +235,11 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
     journal_s = float(comm.allreduce(writer.journal_seconds))
     writer.finish({"wall_time_s": wall, "rank_busy_s": busy_all}, after_grid=functools.partial(
         add_jumps, comm, grid, config, prep["scene"], solver, methods, writer.fields))  # issue 11
+    total = time.perf_counter() - t_start
     if comm.rank == 0:
+        # the grid's figures below exclude this: say what the whole build took
+        log.info("after the grid: jump location/refinement and the final write %.2f s; whole "
+                 "build %.2f s", total - wall, total)
         log.info("journal: %.3f s of writing and syncing over all ranks (%.2f %% of busy time)",
                  journal_s, 100 * journal_s / max(float(busy_all.sum()), 1e-12))
     summary = _summarize(comm, writer, busy_all, len(todo), wall)
@@ -329,7 +333,7 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
         # names that say what they are: busy/(ranks x wall) is how busy the ranks were, not a
         # speed-up; summed busy / wall is the speed-up over one rank only if a point costs the
         # same with N ranks busy (measure it: benchmarks/strong_scaling.py)
-        log.info("wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; busy fraction "
+        log.info("grid: wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; busy fraction "
                  "%.1f %%; summed busy / wall %.2f (the speed-up over 1 rank if points cost the "
                  "same on N)", wall, comm.size,
                  "[" + ", ".join(f"{b:.2f}" for b in summary.busy_s) + "]",
