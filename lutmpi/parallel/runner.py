@@ -333,9 +333,9 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
         # names that say what they are: busy/(ranks x wall) is how busy the ranks were, not a
         # speed-up; summed busy / wall is the speed-up over one rank only if a point costs the
         # same with N ranks busy (measure it: benchmarks/strong_scaling.py)
-        log.info("grid: wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; busy fraction "
-                 "%.1f %%; summed busy / wall %.2f (the speed-up over 1 rank if points cost the "
-                 "same on N)", wall, comm.size,
+        log.info("grid: wall %.2f s on %d rank(s); busy per rank %s s; imbalance %.3f; busy "
+                 "fraction %.1f %%; summed busy / wall %.2f (the speed-up over 1 rank if points "
+                 "cost the same on N)", wall, comm.size,
                  "[" + ", ".join(f"{b:.2f}" for b in summary.busy_s) + "]",
                  summary.imbalance, 100 * summary.parallel_efficiency,
                  sum(summary.busy_s) / wall if wall > 0 else 0.0)
