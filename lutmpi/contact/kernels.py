@@ -242,66 +242,6 @@ def set_profile_coordinates(out, side, pose, wheel):
 
 
 @njit(cache=True)
-def _parabola(g, lo, hi, i):
-    """Value of the parabola through g[i-1], g[i], g[i+1] at its vertex (within ±0.5 sample),
-    restricted to the run [lo, hi) of one side; g[i] when the neighbours are missing."""
-    if i <= lo or i >= hi - 1:
-        return g[i]
-    gm, g0, gp = g[i - 1], g[i], g[i + 1]
-    if not (np.isfinite(gm) and np.isfinite(gp)):
-        return g0
-    den = gm - 2.0 * g0 + gp
-    if den <= 0.0:
-        return g0
-    t = 0.5 * (gm - gp) / den
-    t = min(max(t, -0.5), 0.5)
-    return g0 - 0.25 * (gm - gp) * t
-
-
-@njit(cache=True)
-def locus_heights(idx, n, side2, s2, r2, dr2, d, R, y, u0, du, tabz, u_min, u_max, gap):
-    """Vertical gaps of the locus points ``idx`` (indices into both sides' concatenated samples;
-    the left side is ``idx < n``) at the pose (y, R) with G at height 0, written into ``gap``,
-    and the touching heights (left, right) from each side's minimum (parabolic refinement)."""
-    a, b, c = R[0, 0], R[0, 1], R[0, 2]
-    amp = np.sqrt(a * a + c * c)
-    beta = np.arctan2(c, a)
-    nt = tabz.size
-    best_l, best_r = np.inf, np.inf
-    il, ir = -1, -1
-    n_left = 0
-    for q in range(idx.size):
-        k = idx[q]
-        side = side2[k]
-        x = b * side * dr2[k] / amp
-        x = min(max(x, -1.0), 1.0)
-        phi = beta + np.arcsin(x)
-        r = r2[k]
-        bx, by, bz = r * np.sin(phi), side * (d + s2[k]), -r * np.cos(phi)
-        py = R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz + y
-        pz = R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz
-        u = side * py
-        g = np.inf
-        if u >= u_min and u <= u_max:
-            f = (u - u0) / du
-            j = min(max(int(f), 0), nt - 2)
-            t = f - j
-            g = pz - (tabz[j] + t * (tabz[j + 1] - tabz[j]))
-        gap[q] = g
-        if k < n:
-            n_left += 1
-            if g < best_l:
-                best_l, il = g, q
-        elif g < best_r:
-            best_r, ir = g, q
-    if il < 0 or ir < 0:
-        return -np.inf, -np.inf
-    hl = -_parabola(gap, 0, n_left, il)
-    hr = -_parabola(gap, n_left, idx.size, ir)
-    return hl, hr
-
-
-@njit(cache=True)
 def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt):
     """Wheel nodes of a window: slices ``ks`` with angle indices ``mc ± mh``; with ``filt``,
     only the nodes whose vertical gap to the rail is at most ``limit`` (m). Returns (k, m, body
