@@ -36,12 +36,17 @@ def run(args: argparse.Namespace) -> int:
         linear_critical_speed,
         linear_parameters,
         nonlinear_critical_speed,
+        rolling_offset,
     )
     from lutmpi.dynamics.stability import format_rate
 
     args.output = None
     provider, params, source = make_provider(args)
-    lp = linear_parameters(provider, params, amplitude=args.amplitude)
+    y_e = rolling_offset(provider)
+    if y_e != 0.0:
+        print(f"{source}: the two wheels differ: pure rolling at y = {y_e * 1e3:.3f} mm "
+              "(Δr = 0); the linear models are about that pose")
+    lp = linear_parameters(provider, params, amplitude=args.amplitude, centre=y_e)
     lin = linear_critical_speed(lp, params)
     v_j, f_j = jacobian_critical_speed(provider, params, amplitude=args.amplitude)
     out: dict[str, Any] = {"source": source, "classical": lin.as_dict(),

@@ -394,7 +394,8 @@ class OnlineProvider:
         if flange_angle is None:
             from lutmpi.table.jumps import wheel_flange_angle
 
-            flange_angle = wheel_flange_angle(scene.wheel.profile)
+            flange_angle = min(wheel_flange_angle(scene.side(name).wheel.profile)
+                               for name in ("left", "right"))
         self.flange_angle = flange_angle
         self._solve, self._record = solve_pose, pose_to_record
         self.calls = 0
@@ -438,11 +439,16 @@ class ConedWheelProvider:
     rail_crown_radius : float
         Transverse radius of the rail head used only for the Hertz ellipse, m (a knife edge has
         no finite ellipse; UIC60's crown radius 0.3 m by default).
+    offset : float
+        Lateral pose of pure rolling, m: the geometry is the centred one moved by ``offset``
+        (the left wheel smaller than the right by ``2 lam offset`` at ``y = 0``: two wheels of
+        different diameters). 0 by default.
     """
 
     def __init__(self, r0: float = 0.46, lam: float = 0.2, b: float = 0.75,
-                 gravitational: bool = True, rail_crown_radius: float = 0.3) -> None:
-        self.r0, self.lam, self.b = float(r0), float(lam), float(b)
+                 gravitational: bool = True, rail_crown_radius: float = 0.3,
+                 offset: float = 0.0) -> None:
+        self.r0, self.lam, self.b, self.offset = float(r0), float(lam), float(b), float(offset)
         self.gravitational = gravitational
         self.rail_crown_radius = float(rail_crown_radius)
         self.flange_angle = math.atan(lam)
@@ -450,6 +456,7 @@ class ConedWheelProvider:
 
     def _pose(self, y: float, yaw: float) -> dict[str, np.ndarray]:
         r0, lam, b = self.r0, self.lam, self.b
+        y = y - self.offset
         r = np.array([r0 + lam * y, r0 - lam * y])
         if self.gravitational:
             roll = math.atan(lam * y / b)

@@ -33,7 +33,7 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.optimize import brentq
+from scipy.optimize import brentq, root
 
 from lutmpi.dynamics.contact_provider import ContactProvider
 from lutmpi.dynamics.simulate import classify, simulate
@@ -80,9 +80,45 @@ def _harmonic(fun, amplitude: float, n: int = 32) -> float:
     return float(2.0 / n * np.sum(vals * np.sin(th)))
 
 
+def rolling_offset(provider: ContactProvider, reach: float = 5e-3) -> float:
+    """Lateral offset y_e (m) of pure rolling, where the rolling-radius difference vanishes.
+
+    0 for a wheelset whose two wheels have the same radius at the centred pose; a wheelset with
+    two different wheels (diameters or wear) runs offset to where Δr(y_e) = 0, and its linear
+    model is about that pose. The root nearest to 0 within ``reach``; 0 when there is none."""
+    def dr(y: float) -> float:
+        g = provider.evaluate(y, 0.0)
+        return float(g.rolling_radius[0, 0] - g.rolling_radius[1, 0])
+
+    d0 = dr(0.0)
+    if abs(d0) < 1e-9:
+        return 0.0
+    step = 1e-4
+    prev = {1.0: (0.0, d0), -1.0: (0.0, d0)}
+    for k in range(1, int(reach / step) + 1):
+        for sign in (1.0, -1.0):             # outward on both sides: the nearest root first
+            y = sign * k * step
+            v = dr(y)
+            y0, v0 = prev[sign]
+            if v == 0.0 or (v > 0.0) != (v0 > 0.0):
+                ye = float(brentq(dr, min(y0, y), max(y0, y), xtol=1e-9))
+                if abs(dr(ye + 1e-6) - dr(ye - 1e-6)) > 1e-5:
+                    log.warning("Δr changes sign at a contact jump (y = %.3f mm): no smooth "
+                                "rolling equilibrium, the wheelset runs on the jump (two-point "
+                                "contact); the linear models there are only indicative", ye * 1e3)
+                return ye
+            prev[sign] = (y, v)
+    log.warning("no pure-rolling offset within %.1f mm (Δr(0) = %.3f mm): linear model about the "
+                "centred pose", reach * 1e3, d0 * 1e3)
+    return 0.0
+
+
 def linear_parameters(provider: ContactProvider, params: WheelsetParams,
-                      amplitude: float = 1e-3, h_yaw: float = 1e-3) -> LinearParameters:
-    """Coefficients of the linear model from a contact provider (table, on-line, coned).
+                      amplitude: float = 1e-3, h_yaw: float = 1e-3,
+                      centre: float | None = None) -> LinearParameters:
+    """Coefficients of the linear model from a contact provider (table, on-line, coned), about
+    the pure-rolling pose ``centre`` (m; None: :func:`rolling_offset`, 0 for a symmetric
+    wheelset).
 
     Parameters
     ----------
@@ -93,28 +129,31 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
     h_yaw : float
         Yaw step for the yaw gravitational stiffness, rad.
     """
-    g0 = provider.evaluate(0.0, 0.0)
+    yc = rolling_offset(provider) if centre is None else float(centre)
+    g0 = provider.evaluate(yc, 0.0)
     r0 = float(np.mean(g0.rolling_radius[:, 0]))
     b = 0.5 * float(g0.wheel_point[0, 0, 1] - g0.wheel_point[1, 0, 1])
     no_creep = params.with_(mu=0.0, saturation="cutoff")
     speed = 10.0
 
     def dr(y: float) -> float:
-        g = provider.evaluate(y, 0.0)
+        g = provider.evaluate(yc + y, 0.0)
         return float(g.rolling_radius[0, 0] - g.rolling_radius[1, 0])
 
     def fy(y: float) -> float:
-        g = provider.evaluate(y, 0.0)
-        return float(contact_forces(np.array([y, 0, 0, 0, 0.0]), speed, no_creep, g).force[1])
+        g = provider.evaluate(yc + y, 0.0)
+        x = np.array([yc + y, 0, 0, 0, 0.0])
+        return float(contact_forces(x, speed, no_creep, g).force[1])
 
     def spin(y: float) -> float:
-        g = provider.evaluate(y, 0.0)
-        c = contact_forces(np.array([y, 0, 0, 0, 0.0]), speed, no_creep, g).creepage
+        g = provider.evaluate(yc + y, 0.0)
+        c = contact_forces(np.array([yc + y, 0, 0, 0, 0.0]), speed, no_creep, g).creepage
         return float(np.sum(np.where(g.active, c[..., 2], 0.0)))
 
     def mz(yaw: float) -> float:
-        g = provider.evaluate(0.0, yaw)
-        return float(contact_forces(np.array([0, yaw, 0, 0, 0.0]), speed, no_creep, g).moment[2])
+        g = provider.evaluate(yc, yaw)
+        x = np.array([yc, yaw, 0, 0, 0.0])
+        return float(contact_forces(x, speed, no_creep, g).moment[2])
 
     lam_e = _harmonic(dr, amplitude) / (2.0 * amplitude)
     k_gy = -_harmonic(fy, amplitude) / amplitude
@@ -124,14 +163,14 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
     def fy_creep(y: float) -> float:
         # static creep forces at rest rates: the spin creep of the inclined contacts, whose
         # coefficient f23 ~ N grows with the load transferred by the offset
-        g = provider.evaluate(y, 0.0)
-        x = np.array([y, 0, 0, 0, 0.0])
+        g = provider.evaluate(yc + y, 0.0)
+        x = np.array([yc + y, 0, 0, 0, 0.0])
         # the same creep law as the nonlinear model: the saturation already bends the static
         # spin force (Shen-Hedrick-Elkins: slope 1 - 2 beta/3), which is 2.5 % of k_spin here
         return float(contact_forces(x, speed, params, g).force[1]) - fy(y)
 
     k_spin = -_harmonic(fy_creep, amplitude) / amplitude
-    f0 = contact_forces(np.zeros(5), speed, no_creep, g0)
+    f0 = contact_forces(np.array([yc, 0, 0, 0, 0.0]), speed, no_creep, g0)
     load = float(f0.normal_force[0, 0])
     a_, b_ = (np.array([f0.semi_axes[0, 0, i]]) for i in (0, 1))
     C11, C22, C23, C33 = (float(c[0]) for c in kalker_fast(a_, b_, params.poisson))
@@ -209,14 +248,28 @@ def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float
     The linearisation of the nonlinear model itself (same contact forces, creep law with its
     saturation, spin degree of freedom, gyroscopic terms), by central differences: the y step
     is ``amplitude`` (a secant over the oscillation, as the harmonic linearisation; the table is
-    piecewise linear in y), the others small. The spin perturbation is first put at its
-    equilibrium (the centred rolling radius differs from the nominal r0).
+    piecewise linear in y), the others small. The linearisation is about the steady rolling
+    state: the spin perturbation at its equilibrium (the rolling radius differs from the
+    nominal r0) and, for a wheelset with two different wheels, the lateral offset where Δr
+    vanishes (:func:`rolling_offset`; 0 for a symmetric wheelset).
     """
     def f(x: np.ndarray) -> np.ndarray:
         return wheelset_rhs(0.0, x, speed, params, provider)
 
-    spin_eq = brentq(lambda s: f(np.array([0.0, 0.0, 0.0, 0.0, s]))[4], -5.0, 5.0, xtol=1e-12)
-    x0 = np.array([0.0, 0.0, 0.0, 0.0, spin_eq])
+    yc = rolling_offset(provider)
+    spin_eq = brentq(lambda s: f(np.array([yc, 0.0, 0.0, 0.0, s]))[4], -5.0, 5.0, xtol=1e-12)
+    x0 = np.array([yc, 0.0, 0.0, 0.0, spin_eq])
+    if yc != 0.0:   # two different wheels: the steady state also has a small yaw (the lateral
+        # gravitational force at the offset is balanced by creep); a symmetric one is centred
+        scale = np.array([1e-3, 1e-3, 1.0])
+        sol = root(lambda q: f(np.array([*(q[:2] * scale[:2]), 0.0, 0.0, q[2]]))[2:],
+                   np.array([yc / scale[0], 0.0, spin_eq]), method="hybr")
+        if sol.success:
+            q = sol.x * scale
+            x0 = np.array([q[0], q[1], 0.0, 0.0, q[2]])
+        else:
+            log.warning("no steady rolling state near y = %.3f mm (%s): Jacobian about the "
+                        "pure-rolling offset", yc * 1e3, sol.message)
     steps = np.array([amplitude, 1e-5, 1e-4, 1e-5, 1e-3])
     J = np.zeros((5, 5))
     for k, h in enumerate(steps):

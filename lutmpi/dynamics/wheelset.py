@@ -122,7 +122,8 @@ class WheelsetParams:
     def from_config(cls, cfg: Any, **overrides: Any) -> WheelsetParams:
         """E, ν, r0 (and the vertical load) from a :class:`lutmpi.config.model.Config`."""
         kw = dict(young=cfg.material.young_GPa * 1e9, poisson=cfg.material.poisson,
-                  r0=cfg.wheel.nominal_radius_mm * 1e-3,
+                  r0=0.5 * (cfg.wheel.side("left").nominal_radius_m
+                            + cfg.wheel.side("right").nominal_radius_m),
                   vertical_load=cfg.equilibrium.vertical_load_N)
         kw.update(overrides)
         return cls(**kw)

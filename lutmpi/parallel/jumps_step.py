@@ -53,7 +53,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
     row_start, blocks
         This rank's complete row block (method -> name -> array).
     """
-    from lutmpi.scene import load_scene_profiles
+    from lutmpi.scene_config import side_profiles
     from lutmpi.table.api import mask_failed
 
     t0 = time.perf_counter()
@@ -80,8 +80,8 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
                      "interpolants %s", method, n_cells, int(js.count.sum()),
                      int(js.count.max(initial=0)), int(np.isfinite(js.knot_y).sum()),
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
-    wheel, _ = load_scene_profiles(config)
-    h5io.write_root_attributes(f, _jumps.dynamics_attributes(config, wheel))
+    wheels, _ = side_profiles(config)
+    h5io.write_root_attributes(f, _jumps.dynamics_attributes(config, wheels))
     log.debug("jumps step %.2f s", time.perf_counter() - t0)
 
 

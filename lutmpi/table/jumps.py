@@ -401,12 +401,17 @@ def wheel_flange_angle(wheel: Any) -> float:
     return float(np.arctan(np.max(-wheel.slope(flank))))
 
 
-def dynamics_attributes(config: Any, wheel: Any) -> dict[str, float]:
+def dynamics_attributes(config: Any, wheels: Any) -> dict[str, float]:
     """What the dynamics reads from a table (:data:`lutmpi.table.schema.DYNAMICS_ATTRIBUTES`),
-    SI, from the resolved config and the (worn) wheel profile it was built with."""
-    out = {"wheel_flange_angle": wheel_flange_angle(wheel),
-           "young_modulus": config.material.young_GPa * 1e9,
-           "poisson_ratio": float(config.material.poisson),
-           "nominal_radius": config.wheel.nominal_radius_mm * 1e-3,
-           "vertical_load": float(config.equilibrium.vertical_load_N)}
-    return out
+    SI, from the resolved config and the (worn) wheel profiles it was built with.
+
+    ``wheels`` maps ``"left"`` / ``"right"`` to the wheel profiles. The wheelset model has one
+    flange angle and one nominal radius: the flange angle is the smaller of the two wheels'
+    (the lower, conservative Nadal limit), the nominal radius their mean (the forward rolling
+    speed; each wheel's own radius enters through the table's rolling radius)."""
+    radii = [config.wheel.side(name).nominal_radius_m for name in wheels]
+    return {"wheel_flange_angle": min(wheel_flange_angle(w) for w in wheels.values()),
+            "young_modulus": config.material.young_GPa * 1e9,
+            "poisson_ratio": float(config.material.poisson),
+            "nominal_radius": float(np.mean(radii)),
+            "vertical_load": float(config.equilibrium.vertical_load_N)}

@@ -180,3 +180,27 @@ def test_jacobian_model_agrees_with_the_classical_model_on_a_cone():
     assert vj == pytest.approx(vc, rel=0.02)
     f_classical = linear_critical_speed(linear_parameters(prov, p), p).frequency
     assert fj == pytest.approx(f_classical, rel=0.10)
+
+
+def test_two_different_wheels_are_linearised_about_their_rolling_offset():
+    """Coned wheels whose radii differ by 2 lam y_e roll purely at y = y_e (closed form): the
+    rolling offset is found there, and both linear models there equal the centred wheelset's
+    (the geometry is the centred one moved by y_e) to the y_e / b = 0.33 % by which the contact
+    points on the knife-edge rails move relative to the wheelset centre. Linearised at y = 0 instead, the wheelset
+    would carry a steady longitudinal creep and the Jacobian would not be about a steady state."""
+    from lutmpi.dynamics.critical import rhs_jacobian, rolling_offset
+
+    p = WheelsetParams(r0=R0)
+    centred = ConedWheelProvider(R0, 0.1, B)
+    moved = ConedWheelProvider(R0, 0.1, B, offset=-2.5e-3)
+    assert rolling_offset(centred) == 0.0
+    assert rolling_offset(moved) == pytest.approx(-2.5e-3, abs=1e-8)
+    lin = [linear_critical_speed(linear_parameters(pr, p), p).speed for pr in (centred, moved)]
+    assert lin[1] == pytest.approx(lin[0], rel=1e-2)
+    jac = [jacobian_critical_speed(pr, p, amplitude=1e-4)[0] for pr in (centred, moved)]
+    assert jac[1] == pytest.approx(jac[0], rel=1e-2)
+    # the steady state the Jacobian is taken about: no accelerations, unlike y = 0
+    x0 = np.array([0.0, 0.0, 0.0, 0.0, 0.0])
+    assert abs(wheelset_rhs(0.0, x0, 20.0, p, moved)[3]) > 1e-3
+    J = rhs_jacobian(moved, p, 20.0, amplitude=1e-4)
+    assert np.all(np.isfinite(J))
