@@ -99,6 +99,65 @@ def test_e1_table_is_e5_minus_the_radius_offset_except_where_it_is_not(shared_di
     assert offset_gap(y1, d1, y5, d5).max() > 0.1
 
 
+#: EN 15302 Annex E's wheel/wheel/rail and diameters (mm) per case (the shared README)
+_CASES = {1: ("A", "A", 920, 920), 2: ("B", "B", 920, 920), 3: ("H", "H", 920, 920),
+          4: ("I", "I", 920, 920), 5: ("A", "A", 920, 918), 6: ("B", "B", 920, 918),
+          7: ("H", "H", 920, 918), 8: ("I", "I", 920, 918), 9: ("A", "B", 920, 920)}
+
+
+def _independent_dr(raw, k, y_mm):
+    """Δr_EN (mm) by an independent 2-D calculation in the standard's own frame: the raw
+    points of each wheel and of the rail interpolated by a cubic spline, the wheelset level
+    (roll 0), each wheel's contact where its vertical distance to the rail, sampled every
+    2 µm, is least. y to the right; the rail's first point is its gauge point at 717.5 mm, the
+    wheels' tape circles at 750 mm."""
+    from scipy.interpolate import CubicSpline
+
+    def spline(name):
+        d = np.loadtxt(raw / f"{name}.dat")
+        d = d[np.argsort(d[:, 0])]
+        d = d[np.concatenate([[True], np.diff(d[:, 0]) > 0])]
+        return CubicSpline(d[:, 0], d[:, 1]), d[0, 0], d[-1, 0]
+
+    rail, r_lo, r_hi = spline("SUIC519A")
+    right, left = (spline(f"RUIC519{w}") for w in _CASES[k][:2])
+    s = np.arange(-40.0, 60.0, 0.002)
+
+    def radius(wheel, diameter, y):
+        w, w_lo, w_hi = wheel
+        v = y + 750.0 + s - 717.5 + r_lo             # the wheel's s in the rail file's frame
+        ok = (s >= w_lo) & (s <= w_hi) & (v >= r_lo) & (v <= r_hi)
+        gap = np.where(ok, w(s) - rail(np.clip(v, r_lo, r_hi)), np.inf)
+        return diameter / 2.0 - w(s[np.argmin(gap)])   # the file gives the surface height
+
+    return np.array([radius(right, _CASES[k][2], y) - radius(left, _CASES[k][3], -y)
+                     for y in y_mm])
+
+
+def test_delta_r_equals_an_independent_2d_calculation_and_the_tables_it_misses(shared_dir):
+    """lutmpi's Δr (roll held at zero) equals an independent numpy calculation from the raw
+    files within 0.01 mm at every y of the Annex tables with |y| <= 6 mm, jumps included
+    (measured: 4.4 µm max over the nine cases). The same calculation misses the Annex tables of
+    E1, E4, E8 and E9 by more than 0.075 mm (0.080-0.151 mm), while it reproduces E2, E3 away
+    from its jump, E5, E6 and E7: the 0.05 mm of issue 10 is not reachable for those four
+    from the transcribed profiles by any rigid roll-zero calculation (the tables are not E5's
+    identity either, see below). ~10 s."""
+    raw = shared_dir / "validation" / "en15302" / "raw"
+    misses = {}
+    for k in CASES:
+        ya, dra = _annex_dr(shared_dir, k)
+        keep = np.abs(ya) <= 6.0 + 1e-9
+        ya, dra = ya[keep], dra[keep]
+        ours, _ = _ours(Scene.from_config(_config(k)), ya)
+        other = _independent_dr(raw, k, ya)
+        assert np.abs(ours - other).max() < 0.01, k
+        misses[k] = float(np.median(np.abs(other - dra))), float(np.abs(other - dra).max())
+    print("\nindependent 2-D vs Annex E (median, max mm): "
+          + ", ".join(f"E{k} {a:.4f}/{b:.3f}" for k, (a, b) in misses.items()))
+    assert all(misses[k][1] > 0.075 for k in (1, 4, 8, 9))
+    assert all(misses[k][1] < 0.05 for k in (5, 6))
+
+
 @pytest.mark.slow
 def test_annex_e_conicity_inside_the_tolerance_band(shared_dir):
     """tan γe (EN 15302 Annex B integration of lutmpi's Δr, roll held at zero, the configs'
