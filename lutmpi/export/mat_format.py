@@ -19,6 +19,7 @@ import numpy as np
 
 from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import TableError
+from lutmpi.table.schema import JUMPS_GROUP
 
 NAME = "mat"
 DESCRIPTION = "the whole table (grid, every dataset, units, status codes) for MATLAB / scipy"
@@ -41,7 +42,7 @@ def content(table: Any) -> dict[str, Any]:
         out[_check_name(method)] = {_check_name(k): np.asarray(v) for k, v in group.items()}
         stored_jumps = _jumps(table, method)
         if stored_jumps:
-            out[method]["jumps"] = stored_jumps
+            out[method][JUMPS_GROUP] = stored_jumps
         meta = table.meta[method]
         units[method] = {k: str(meta.get(k, {}).get("units", "")) for k in group}
         desc[method] = {k: str(meta.get(k, {}).get("description", "")) for k in group}

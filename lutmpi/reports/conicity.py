@@ -57,7 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, optimize
 
-from lutmpi.table.schema import D
+from lutmpi.table.schema import Y_AXIS, YAW_AXIS, D
 
 __all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
            "dr_from_table", "check_dr", "DrCheck", "HoleError"]
@@ -300,7 +300,7 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
         name = method or table.methods[0]
         group = {k: table.get(k, name, raw=True) for k in table.quantities}
     else:
-        y, yaw = np.asarray(table["y"], float), np.asarray(table["yaw"], float)
+        y, yaw = np.asarray(table[Y_AXIS], float), np.asarray(table[YAW_AXIS], float)
         name = method or next(iter(table["methods"]))
         group = table["methods"][name]
     j = int(np.argmin(np.abs(yaw)))

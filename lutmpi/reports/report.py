@@ -31,7 +31,7 @@ from lutmpi.reports.convergence import (
     error_maps,
     mesh_spacing_of,
 )
-from lutmpi.table.schema import D
+from lutmpi.table.schema import Y_AXIS, YAW_AXIS, D
 
 log = logging.getLogger(__name__)
 WEAR_KEYS = re.compile(r"^(wheel|rail|wear)\.")
@@ -178,7 +178,7 @@ def _convergence(data: SweepData, report: Path, reference: str) -> tuple[list[st
         for q, err in error_maps(t.group, ref.group).items():
             if q in (D.z_g, D.contact_angle):
                 name = f"map_{_safe(t.id)}_{q}.png"
-                plots.error_map(t.table["y"], t.table["yaw"], err, q, f"{t.id} vs {ref.id}",
+                plots.error_map(t.table[Y_AXIS], t.table[YAW_AXIS], err, q, f"{t.id} vs {ref.id}",
                                 report / name)
                 figs.append(name)
     return _convergence_md(study, figs), study
@@ -231,13 +231,13 @@ def _wear(data: SweepData, report: Path) -> list[str]:
             rows.append(f"| {t.id} | fewer than 3 converged points around y = 0 at yaw 0 "
                         "| | | | | |")
             continue
-        j = int(np.argmin(np.abs(np.asarray(t.table["yaw"]))))
+        j = int(np.argmin(np.abs(np.asarray(t.table[YAW_AXIS]))))
         g = t.group
         dr_c[t.id] = (y, dr)
         if D.contact_angle in g:
-            ang_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g[D.contact_angle])[:, j, 0, 0])
+            ang_c[t.id] = (np.asarray(t.table[Y_AXIS]), np.asarray(g[D.contact_angle])[:, j, 0, 0])
         if D.roll in g:
-            roll_c[t.id] = (np.asarray(t.table["y"]), np.asarray(g[D.roll])[:, j])
+            roll_c[t.id] = (np.asarray(t.table[Y_AXIS]), np.asarray(g[D.roll])[:, j])
         res = con.conicity_curve(y, dr, amps)
         conic[t.id] = (amps, res.tan_gamma_e)
         at = [res.at(a * 1e-3) if np.isfinite(res.tan_gamma_e[np.argmin(abs(amps - a * 1e-3))])

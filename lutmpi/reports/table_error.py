@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from lutmpi.table.schema import D
+from lutmpi.table.schema import D, J
 
 #: quantity -> (scale to display units, unit)
 QUANTITIES = {D.rolling_radius: (1e6, "um"), D.contact_angle: (1e3, "mrad"),
@@ -105,7 +105,7 @@ def measure(table: Any, solve: Callable[[float, float], dict[str, np.ndarray]],
                 np.isnan(a) ^ np.isnan(b), np.inf, np.abs(a - b)))
             stats[interp][name_] = {region: _stat(err[ok & mask])
                                     for region, mask in (("away", ~near), ("near", near))}
-    knots = int(np.isfinite(table.jumps[method]["arrays"]["knot_y"]).sum()) \
+    knots = int(np.isfinite(table.jumps[method]["arrays"][J.knot_y]).sum()) \
         if method in table.jumps else 0
     post = float(table.jumps[method]["attrs"].get("wall_time_s", 0.0)) \
         if method in table.jumps else 0.0

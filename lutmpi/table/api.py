@@ -29,7 +29,7 @@ import numpy as np
 from lutmpi.equilibrium.result import CONVERGED, STATUS
 from lutmpi.errors import TableError
 from lutmpi.table import interp as _interp
-from lutmpi.table.schema import D
+from lutmpi.table.schema import KNOTS_GROUP, LIMITS_GROUP, Y_AXIS, YAW_AXIS, D, J
 
 
 def mask_failed(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -95,8 +95,8 @@ class Table:
         from lutmpi.table.h5io import read_jumps, read_table
 
         raw = read_table(path)
-        table = cls(str(path), raw["y"], raw["yaw"], raw["attrs"], raw["methods"], raw["meta"],
-                    mask_failed)
+        table = cls(str(path), raw[Y_AXIS], raw[YAW_AXIS], raw["attrs"], raw["methods"],
+                    raw["meta"], mask_failed)
         table._masked = {m: table._mask(d) for m, d in table.data.items()}
         table.jumps = read_jumps(path)
         return table
@@ -125,11 +125,11 @@ class Table:
             if stored is None:
                 ip = _interp.build(self.y, self.yaw, arrays)
             else:
-                limits = self._mask(stored["limits"])
+                limits = self._mask(stored[LIMITS_GROUP])
                 modes = json.loads(stored["attrs"].get("interpolants", "{}"))
                 ip = _interp.build(self.y, self.yaw, arrays, stored["arrays"], limits,
-                                   stored["arrays"].get("knot_y"),
-                                   self._mask(stored.get("knots", {})), modes)
+                                   stored["arrays"].get(J.knot_y),
+                                   self._mask(stored.get(KNOTS_GROUP, {})), modes)
             self._interp[key] = ip
         return self._interp[key]
 
@@ -138,7 +138,7 @@ class Table:
         stored = self.jumps.get(self._method(method))
         if stored is None:
             return np.zeros((self.yaw.size, 0))
-        return np.asarray(stored["arrays"]["jump_y"], float)
+        return np.asarray(stored["arrays"][J.jump_y], float)
 
     def attribute(self, name: str) -> Any:
         """A root attribute the dynamics needs (:data:`lutmpi.table.schema.DYNAMICS_ATTRIBUTES`).

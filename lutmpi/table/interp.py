@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from lutmpi.table.schema import D
+from lutmpi.table.schema import D, J
 
 MODES = ("linear", "pchip", "nearest")
 LINEAR, PCHIP, NEAREST = 0, 1, 2
@@ -182,7 +182,7 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
     layout = Layout.of(arrays)
     ny, nyaw = arrays[next(iter(arrays))].shape[:2]
     grid = layout.pack(arrays, 2)                                   # (ny, nyaw, Q)
-    k = 0 if jumps is None else jumps["jump_y"].shape[1]
+    k = 0 if jumps is None else jumps[J.jump_y].shape[1]
     lim = None
     if k:
         full = {n: (limits[n] if limits and n in limits else
@@ -203,10 +203,10 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
         pstart[j, :starts.size] = starts
         pstart[j, starts.size:] = cy.size
     kd = _slopes(ky, kv, pstart, mode == PCHIP)
-    jy = np.full((nyaw, k), np.nan) if not k else np.asarray(jumps["jump_y"], float)
+    jy = np.full((nyaw, k), np.nan) if not k else np.asarray(jumps[J.jump_y], float)
     nj = np.isfinite(jy).sum(axis=1).astype(np.int64)
     jside = (np.zeros((nyaw, k), np.int64) if not k
-             else np.asarray(jumps["jump_side"], np.int64))
+             else np.asarray(jumps[J.jump_side], np.int64))
     match = np.array([nj[j] == nj[j + 1] and np.array_equal(jside[j, :nj[j]], jside[j + 1, :nj[j]])
                       for j in range(nyaw - 1)], dtype=bool)
     return Interpolator(np.asarray(y_axis, float), np.asarray(yaw_axis, float), ky, kv, kd,
@@ -237,10 +237,10 @@ def _column(y_axis: np.ndarray, values: np.ndarray, jumps: dict[str, np.ndarray]
 
     Knots: grid nodes, extra knots and bracket ends, sorted; the piece of a knot is the number of
     jumps at or below it; a knot strictly inside a bracket is dropped."""
-    n = 0 if not k else int(np.isfinite(jumps["jump_y"][j]).sum())
-    jy = np.asarray([] if not n else jumps["jump_y"][j, :n], float)
-    lo = np.asarray([] if not n else jumps["jump_y_lo"][j, :n], float)
-    hi = np.asarray([] if not n else jumps["jump_y_hi"][j, :n], float)
+    n = 0 if not k else int(np.isfinite(jumps[J.jump_y][j]).sum())
+    jy = np.asarray([] if not n else jumps[J.jump_y][j, :n], float)
+    lo = np.asarray([] if not n else jumps[J.jump_y_lo][j, :n], float)
+    hi = np.asarray([] if not n else jumps[J.jump_y_hi][j, :n], float)
     ys = [np.asarray(y_axis, float)]
     vs = [values]
     if extra is not None:

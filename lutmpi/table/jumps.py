@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from lutmpi.table.schema import JUMP_FIELDS, D, Field
+from lutmpi.table.schema import JUMP_FIELDS, D, Field, J
 
 #: primary contact point movement (m) between neighbours that makes a cell a candidate
 CANDIDATE_M = 2e-3
@@ -327,7 +327,7 @@ class JumpSet:
     @property
     def count(self) -> np.ndarray:
         """Jumps per yaw column, (nyaw,)."""
-        return np.isfinite(self.arrays["jump_y"]).sum(axis=1)
+        return np.isfinite(self.arrays[J.jump_y]).sum(axis=1)
 
 
 def assemble(jumps: Sequence[Jump], extra: Sequence[tuple[int, float, Record]], nyaw: int,
@@ -341,8 +341,8 @@ def assemble(jumps: Sequence[Jump], extra: Sequence[tuple[int, float, Record]], 
     limits = {f.name: f.empty((nyaw, k, 2)) for f in fields}
     for j, col in enumerate(per):
         for n, jp in enumerate(col):
-            for name, value in (("jump_y", jp.y), ("jump_y_lo", jp.lo), ("jump_y_hi", jp.hi),
-                                ("jump_kind", jp.kind), ("jump_side", jp.side)):
+            for name, value in ((J.jump_y, jp.y), (J.jump_y_lo, jp.lo), (J.jump_y_hi, jp.hi),
+                                (J.jump_kind, jp.kind), (J.jump_side, jp.side)):
                 arrays[name][j, n] = value
             for f in fields:
                 limits[f.name][j, n, 0] = jp.rec_lo[f.name]

@@ -8,7 +8,8 @@
    constants outside docstrings: a per-point/per-contact/jump dataset name counts wherever it
    appears; the axis and group names (``y``, ``yaw``, ``jumps``, ``limits``, ``knots``), which are
    also ordinary words, count only as a key (``x["y"]``, ``x.get("y")``, ``"y" in x``).
-   Known spellings not fixed yet are in :data:`ALLOWED` with the reason; a stale entry fails.
+   What :data:`ALLOWED` still lists are the same words used for something else (a simulation run
+   file, a sweep index, a compiled buffer), each with its reason; a stale entry fails.
 """
 
 from __future__ import annotations
@@ -73,23 +74,6 @@ ALLOWED: dict[tuple[str, str], str] = {
     # table/api.py: Table.interp's info key named like the jump dataset it reports (jumps)
     ("lutmpi/table/api.py", "jump_side"): "interp info key (INFO_KEYS), returned per query",
     ("lutmpi/commands/query.py", "jump_side"): "query CSV column = Table.interp info key",
-    # modules others are rewriting (issue 11 / 12): names to move to schema.J / AXES / groups
-    ("lutmpi/table/api.py", "jump_y"): "jumps: use schema.J.jump_y",
-    ("lutmpi/table/api.py", "knot_y"): "jumps: use schema.J.knot_y",
-    ("lutmpi/table/api.py", "limits"): "jumps: use schema.LIMITS_GROUP",
-    ("lutmpi/table/api.py", "knots"): "jumps: use schema.KNOTS_GROUP",
-    ("lutmpi/table/api.py", "y"): "jumps: read_table's axis keys, use schema.Y_AXIS",
-    ("lutmpi/table/api.py", "yaw"): "jumps: read_table's axis keys, use schema.YAW_AXIS",
-    **{("lutmpi/table/interp.py", n): "jumps: use schema.J"
-       for n in ("jump_y", "jump_y_lo", "jump_y_hi", "jump_side")},
-    **{("lutmpi/table/jumps.py", n): "jumps: use schema.J"
-       for n in ("jump_y", "jump_y_lo", "jump_y_hi", "jump_kind", "jump_side")},
-    ("lutmpi/reports/table_error.py", "knot_y"): "jumps: use schema.J.knot_y",
-    **{("lutmpi/reports/conicity.py", n): "outputs: the table mapping's axes, use schema.AXES"
-       for n in ("y", "yaw")},
-    **{("lutmpi/reports/report.py", n): "outputs: the member mapping's axes, use schema.AXES"
-       for n in ("y", "yaw")},
-    ("lutmpi/export/mat_format.py", "jumps"): "outputs: use schema.JUMPS_GROUP",
 }
 
 
