@@ -24,7 +24,11 @@ import numpy as np
 
 import lutmpi
 from lutmpi.config import load_config
-from lutmpi.contact.solve import solve_pose
+
+try:
+    from lutmpi.pose.solve import solve_pose
+except ImportError:       # a tree before the pose pipeline moved out of contact/ (compare_trees)
+    from lutmpi.contact.solve import solve_pose
 from lutmpi.scene import Scene
 
 METHODS = ("reference", "max_distance", "max_normal_distance", "load_centre")

@@ -30,11 +30,11 @@ from strong_scaling import derived_config, read, run_build  # noqa: E402
 IN_PROCESS = """
 import time
 t0 = time.perf_counter()
-import lutmpi.cli, lutmpi.parallel.runner, lutmpi.scene, lutmpi.contact.solve
+import lutmpi.cli, lutmpi.parallel.runner, lutmpi.scene, lutmpi.pose.solve
 t1 = time.perf_counter()
 from lutmpi.config import load_config
 from lutmpi.scene import Scene
-from lutmpi.contact.solve import solve_pose
+from lutmpi.pose.solve import solve_pose
 cfg = load_config({config!r})
 scene = Scene.from_config(cfg)
 t2 = time.perf_counter()

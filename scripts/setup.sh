@@ -116,4 +116,4 @@ EOF
 
 # --- 7. Compiled kernels ready: numba's on-disk cache filled now (~15-30 s on a cold cache, under
 # a second when warm), so a first build does not compile ----------------------------------------
-"$VPY" -m lutmpi.contact.warmup || die "compiling the numba kernels failed (see above)"
+"$VPY" -m lutmpi.warmup || die "compiling the numba kernels failed (see above)"

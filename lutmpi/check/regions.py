@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from lutmpi.contact.locus import contact_minima
-from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import SIDES, PoseResult
+from lutmpi.pose.solve import solve_pose
 
 ROOT_ANGLE = 0.15  # rad (8.6 deg): S1002/UIC60 tread contacts stay below ~0.05 rad
 FLANGE_ANGLE = 1.0  # rad (57 deg): the S1002 flank is at 70 deg = 1.22 rad

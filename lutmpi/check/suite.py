@@ -37,7 +37,6 @@ import numpy as np
 
 from lutmpi.check.regions import REGIONS, ReferenceGrid, RefPoint, primary_s, stratified_sample
 from lutmpi.contact.methods import get_method
-from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import (
     CONVERGED,
     EQ_FAILED,
@@ -51,6 +50,7 @@ from lutmpi.equilibrium.result import (
     WINDOW,
     PoseResult,
 )
+from lutmpi.pose.solve import solve_pose
 
 MM = 1e-3
 

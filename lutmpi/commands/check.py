@@ -7,8 +7,8 @@ from __future__ import annotations
 import logging
 from typing import Any
 
-from lutmpi.contact.solve import METHOD_NAMES
 from lutmpi.errors import ConfigError
+from lutmpi.pose.solve import METHOD_NAMES
 
 log = logging.getLogger(__name__)
 

@@ -75,8 +75,8 @@ def _table_error(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from lutmpi.config import config_from_dict
-    from lutmpi.contact.solve import solve_pose
     from lutmpi.errors import ConfigError
+    from lutmpi.pose.solve import solve_pose
     from lutmpi.reports import table_error
     from lutmpi.scene import Scene
     from lutmpi.table import Table

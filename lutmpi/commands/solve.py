@@ -7,8 +7,8 @@ import logging
 import sys
 from typing import Any
 
-from lutmpi.contact.solve import METHOD_NAMES
 from lutmpi.errors import ConfigError
+from lutmpi.pose.solve import METHOD_NAMES
 
 log = logging.getLogger(__name__)
 
@@ -32,7 +32,7 @@ def register(subparsers: Any) -> None:
 def run(args: Any) -> int:
     from lutmpi.config import load_config
     from lutmpi.contact.poses import read_poses
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
     from lutmpi.scene import Scene
 
     poses = read_poses(args.poses) if args.poses else []

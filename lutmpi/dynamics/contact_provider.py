@@ -375,7 +375,7 @@ class OnlineProvider:
     scene : object
         :class:`lutmpi.scene.Scene`.
     method : str
-        Contact method passed to :func:`lutmpi.contact.solve.solve_pose`.
+        Contact method passed to :func:`lutmpi.pose.solve.solve_pose`.
     h_y, h_yaw : float
         Difference steps, m and rad. Not smaller: a pose is solved to ~0.1 um, so a 1 um step
         gives slopes with O(1) noise on the mesh-based methods (``load_centre``: d z_g / dy off
@@ -384,7 +384,7 @@ class OnlineProvider:
 
     def __init__(self, scene: Any, method: str = "reference", h_y: float = 1e-4,
                  h_yaw: float = 1e-4, flange_angle: float | None = None) -> None:
-        from lutmpi.contact.solve import solve_pose
+        from lutmpi.pose.solve import solve_pose
         from lutmpi.table.compute import pose_to_record
         from lutmpi.table.schema import FIELDS
 

@@ -132,7 +132,7 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
         ``None`` for one process. Only the CLI passes ``MPI.COMM_WORLD``.
     solver : callable, optional
         ``solver(scene, y, yaw, method) -> PoseResult``; default
-        :func:`lutmpi.contact.solve.solve_pose`.
+        :func:`lutmpi.pose.solve.solve_pose`.
     force : bool
         Overwrite an existing table, discard an unfinished build.
     resume : bool

@@ -35,7 +35,7 @@ def plot_track(scene, out: str | Path, y: float = 0.0, title: str | None = None)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
 
     res = solve_pose(scene, y, 0.0, "reference")
     fig = plt.figure(figsize=(12, 7.5))

@@ -39,7 +39,7 @@ def default_solver() -> Solver:
     """The production solver. Its first call per method in a process loads the compiled
     kernels (numba's cache, ~0.3 s); that call is made once more so the one-off cost does not
     enter the first point's ``compute_time`` (results are identical: the solve is pure)."""
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
 
     warm: set[str] = set()
 

@@ -44,7 +44,7 @@ from contact_fixtures import (
 )
 from scipy.optimize import fsolve
 
-from lutmpi.contact.solve import solve_pose
+from lutmpi.pose.solve import solve_pose
 
 LAM, RR, U_C = 0.05, 0.3, D_TAPE
 Y_CONE = (0.0, 2 * MM, -2 * MM, 5 * MM, -5 * MM)

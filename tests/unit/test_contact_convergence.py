@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from contact_fixtures import MESH_METHODS, MM, standard_scene
 
-from lutmpi.contact.solve import solve_pose
+from lutmpi.pose.solve import solve_pose
 
 H = (1.0, 0.5, 0.25, 0.125)  # mm
 POSES = ((2 * MM, 0.0), (3 * MM, 0.06), (9 * MM, 0.0), (8 * MM, 0.12))

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from lutmpi.config.model import ALL_METHODS, CONTACT_METHODS
-from lutmpi.contact.mesh_pose import rotation
 from lutmpi.contact.methods import METHODS, get_method
 from lutmpi.contact.methods.base import MeshMethod
-from lutmpi.contact.solve import solve_pose
 from lutmpi.geometry.pose import wheelset_rotation
+from lutmpi.pose.mesh import rotation
+from lutmpi.pose.solve import solve_pose
 
 
 def test_config_lists_come_from_the_registry():

@@ -13,7 +13,7 @@ import pytest
 from contact_fixtures import MM, rigid_2d, standard_scene
 
 from lutmpi.contact.locus import local_minima
-from lutmpi.contact.solve import solve_pose
+from lutmpi.pose.solve import solve_pose
 
 
 @pytest.fixture(scope="module")

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from contact_fixtures import D_TAPE, MESH_METHODS, MM, standard_scene
 
-from lutmpi.contact.solve import solve_pose
+from lutmpi.pose.solve import solve_pose
 
 POSES = {"tread": (2 * MM, 0.0), "flange": (9 * MM, 0.0),
          "yawed flange +": (9 * MM, 0.12), "yawed flange -": (9 * MM, -0.12)}

@@ -17,8 +17,8 @@ import pytest
 
 from lutmpi.commands.conicity import config_dr
 from lutmpi.config import load_config
-from lutmpi.contact.solve import solve_pose
 from lutmpi.paths import REPO_ROOT
+from lutmpi.pose.solve import solve_pose
 from lutmpi.reports.conicity import conicity_curve
 from lutmpi.scene import Scene
 

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from contact_fixtures import INC_20, INC_40, MM, standard_scene
 
-from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import CONVERGED, STATUS
+from lutmpi.pose.solve import solve_pose
 
 K_EL = 1e7
 

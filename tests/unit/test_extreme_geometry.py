@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from lutmpi.contact.locus import contact_minima
-from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import CONVERGED, PROFILE_END, SIDES, STATUS
 from lutmpi.equilibrium.solver import EquilibriumOptions
+from lutmpi.pose.solve import solve_pose
 from lutmpi.profiles import read_profile
 from lutmpi.profiles.standard import s1002, uic60
 from lutmpi.profiles.wear import tread_hollowing

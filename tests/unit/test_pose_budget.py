@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 from lutmpi.config import load_config
-from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET
 from lutmpi.paths import REPO_ROOT
+from lutmpi.pose.solve import solve_pose
 from lutmpi.scene import Scene
 
 Y, YAW = -8.4e-3, -0.036

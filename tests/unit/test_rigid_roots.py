@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 from lutmpi.contact.locus import find_brackets
-from lutmpi.contact.solve import solve_pose
 from lutmpi.equilibrium.result import CONVERGED, NO_CONTACT, PROFILE_END
 from lutmpi.equilibrium.solver import EquilibriumOptions
+from lutmpi.pose.solve import solve_pose
 from lutmpi.profiles import read_profile
 from lutmpi.profiles.model import Profile
 from lutmpi.profiles.standard import s1002, uic60

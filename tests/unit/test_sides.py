@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from lutmpi.config import config_from_dict
-from lutmpi.contact.solve import solve_pose
 from lutmpi.errors import ConfigError
+from lutmpi.pose.solve import solve_pose
 from lutmpi.profiles.standard import s1002, uic60
 from lutmpi.scene import Scene
 

@@ -297,7 +297,7 @@ def test_curvatures_of_cone_cylinder_torus(kind, m):
     (Meusnier); across, the profile's own curvature: 0 for a cone or a cylinder, 1/rho for a
     torus; the crown rail's is 1/R. The radius is the profile's: r0 - lam s (cone), r0
     (cylinder), r0 + sqrt(rho^2 - s^2) - rho (torus), at the stored wheel_s."""
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
 
     sc = _synthetic(kind)
     lam = {"cone": 0.05, "cylinder": 0.0}.get(kind)
@@ -327,7 +327,7 @@ def test_eq1_balance_with_a_large_spring_share(m):
     k_rot (roll - roll_rigid), from the pose without extrapolation and the reference pose.
     On this smooth problem (cone on a crown) Newton meets its residual tolerance, so the
     balance holds to 1e-4 W (measured 1e-7 .. 5e-6 W)."""
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
 
     k = 3e10
     sc = _synthetic("cone", k_el=k, k_rot=k, extrapolate=False)
@@ -355,7 +355,7 @@ def test_flange_factor_on_a_steep_cone(m):
     base (r0 + 2 mm, s = -16.7 mm) and the tip (the cone's largest radius, r0 + 0.12 * 60 mm),
     so k_c is scaled linearly in the radius -- the flange-root band s in (-30, 0) mm that the
     S1002 table never touches."""
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
     from lutmpi.scene import Scene, SolveSettings
     from tests.unit.contact_fixtures import D_TAPE, cone_wheel, crown_gauge, crown_rail
 

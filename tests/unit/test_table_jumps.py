@@ -185,7 +185,7 @@ def test_located_jumps_lie_where_direct_solves_put_them(tmp_path):
     """Each located jump J: direct solves at J - 0.01 mm and J + 0.01 mm differ (a contact
     count, or the primary contact point by more than the confirmation movement), so the jump the
     solver sees lies within +-0.01 mm of J; and a jump-free window of the same width does not."""
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
     from lutmpi.scene import Scene
     from lutmpi.table import Table
     from lutmpi.table.compute import pose_to_record
@@ -233,7 +233,7 @@ def test_simulate_leaving_the_table_stops_with_a_message_naming_the_pose(tmp_pat
 
 def test_table_error_report_equals_a_direct_recomputation(tmp_path):
     """The report's max errors are what Table.interp and direct solves give at its poses."""
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
     from lutmpi.reports import table_error
     from lutmpi.scene import Scene
     from lutmpi.table import Table

@@ -4,7 +4,7 @@ every method's compiled stage is in numba's cache after ``scripts/setup.sh``."""
 from __future__ import annotations
 
 from lutmpi.contact.methods import METHODS
-from lutmpi.contact.warmup import warm_kernels
+from lutmpi.warmup import warm_kernels
 
 
 def test_warmup_compiles_every_mesh_method():

@@ -1,12 +1,12 @@
 """What a contact method is: a name, its properties and its stage of the pose solve.
 
-:class:`ContactMethod` is the base of every method: ``solve(scene, rigid)`` turns the rigid
-contact of a pose (the locus solution, the start of every method) into a
-:class:`~lutmpi.equilibrium.result.PoseResult`. :class:`MeshMethod` is the base of the methods
-of §4.2 that search the meshes: its ``kernel`` is the method's compiled stage (the contacts of
-one wheel at a pose, from the shared eq. (2) search and §4.6 split of
-:mod:`lutmpi.contact.kernels`), and its ``solve`` is the shared mesh pipeline (window, k_c
-iteration, results) of :mod:`lutmpi.contact.mesh_pose`.
+:class:`ContactMethod` is the base of every method; a plain one (the reference) takes the rigid
+contact of the pose (the locus solution, the start of every method) as its result.
+:class:`MeshMethod` is the base of the methods of §4.2 that search the meshes: its ``kernel`` is
+the method's compiled stage (the contacts of one wheel at a pose, from the shared eq. (2) search
+and §4.6 split of :mod:`lutmpi.contact.kernels`). The pose pipeline above this layer
+(:mod:`lutmpi.pose.solve`) runs a method: the rigid result (:mod:`lutmpi.pose.rigid`) or the
+shared mesh pipeline, window, k_c iteration and result (:mod:`lutmpi.pose.mesh`).
 """
 
 from __future__ import annotations
@@ -52,11 +52,6 @@ class ContactMethod:
     def uses_mesh(self) -> bool:
         """Whether the method searches the meshes (a window, k_c, an indentation rate)."""
         return False
-
-    def solve(self, scene, rigid, full_mesh: bool = False):
-        """The pose result from the rigid contact ``rigid`` (a successful
-        :class:`~lutmpi.contact.locus.RigidSolution`)."""
-        raise NotImplementedError
 
 
 @dataclass(frozen=True)
@@ -105,11 +100,6 @@ class MeshMethod(ContactMethod):
         ]
         found.sort(key=lambda c: -c.indentation)
         return found[:max_contacts]
-
-    def solve(self, scene, rigid, full_mesh: bool = False):
-        from lutmpi.contact.mesh_pose import solve_mesh_pose
-
-        return solve_mesh_pose(scene, rigid, self, full_mesh)
 
 
 __all__ = ["ContactMethod", "Contacts", "MeshContact", "MeshMethod", "WindowArrays"]

@@ -1,8 +1,10 @@
 """One pose, one call: ``solve_pose(scene, y, yaw, method)`` -> :class:`PoseResult`.
 
 Every method starts from the rigid contact of the locus method (§4.3 step 1: the starting pose
-``q0``, and where contact can happen); the method's own stage (:mod:`lutmpi.contact.methods`)
-turns it into the result. Non-convergence is returned as a status, never raised.
+``q0``, and where contact can happen); the reference method takes it as its result
+(:mod:`lutmpi.pose.rigid`), a mesh method's stage (:mod:`lutmpi.contact.methods`) runs in the
+shared mesh pipeline (:mod:`lutmpi.pose.mesh`). Non-convergence is returned as a status, never
+raised.
 """
 
 from __future__ import annotations
@@ -12,6 +14,8 @@ import time
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.methods import METHOD_NAMES, get_method
 from lutmpi.equilibrium.result import NO_CONTACT, PROFILE_END, STATUS, PoseResult
+from lutmpi.pose.mesh import solve_mesh_pose
+from lutmpi.pose.rigid import rigid_result
 
 __all__ = ["METHOD_NAMES", "solve_pose"]
 
@@ -43,7 +47,8 @@ def solve_pose(
             nit=rigid.nit,
         )
     else:
-        res = m.solve(scene, rigid, full_mesh)
+        res = (solve_mesh_pose(scene, rigid, m, full_mesh) if m.uses_mesh
+               else rigid_result(scene, rigid, name))
     res.n_roots = rigid.n_roots
     if rigid.success and rigid.at_end:
         # the data do not reach the contact: the numbers are kept, the status says why

@@ -4,7 +4,7 @@ numba caches compiled kernels on disk next to their modules (``__pycache__``); a
 a new checkout ~15 s of compilation in its first solve. ``scripts/setup.sh`` runs this module so
 that cost is paid by the setup, not by the first build:
 
-    .venv/bin/python -m lutmpi.contact.warmup
+    .venv/bin/python -m lutmpi.warmup
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ def warm_kernels() -> float:
     """Solve one flange pose with every registered method on a small generated scene (S1002 on
     UIC60, coarse meshes); returns the wall time, s."""
     from lutmpi.contact.methods import METHOD_NAMES
-    from lutmpi.contact.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose
     from lutmpi.profiles.standard import generate
     from lutmpi.scene import Scene
 
