@@ -223,7 +223,7 @@ def simulate(provider: ContactProvider, params: WheelsetParams, speed: float, du
                                                                  strict=True)}
     if hasattr(provider, "piece"):
         res.events["jump"] = np.asarray(crossings, float)
-        res.events["sliding"] = np.asarray(sol.slides, float)
+        res.events["sliding"] = np.asarray([w[0] for w in sol.slides], float)
     res.summary = classify(res.t, res.y) if res.t.size else None
     log.info("%s", res.summary_line())
     return res
@@ -236,7 +236,8 @@ class _Joined:
         self.t: list[np.ndarray] = []
         self.y: list[np.ndarray] = []
         self.t_events: list[list[float]] = [[] for _ in range(n_monitors)]
-        self.slides: list[float] = []   # start times of the windows sliding along a jump
+        # (start, end, length in max_step) of each window sliding along a jump
+        self.slides: list[tuple[float, float, float]] = []
         self.nfev = 0
         self.success, self.status, self.message = True, 0, "The solver successfully reached " \
                                                              "the end of the integration interval."
@@ -318,13 +319,23 @@ def _integrate(rhs: Any, provider: Any, memo: _Memo, duration: float, x0: np.nda
             elif _sliding(crossings):
                 # the forces on both sides push the pose onto the jump (a two-point contact
                 # holding the wheelset there): restarting at every crossing would take
-                # thousands of microsecond pieces. One max_step window without the jump
-                # events, on the force averaged over +-SLIDE_HALF_WIDTH of y (_slide).
-                out.slides.append(t)
-                t, x, ok = _slide(rhs, out, t, x, min(t + kw["max_step"], duration), t_eval,
-                                  monitors, kw)
-                if not ok:
+                # thousands of microsecond pieces. A window without the jump events, the force
+                # blended across the jump (_slide): max_step long, twice as long each time the
+                # sliding resumes right after a window (a steady state on the jump), at most
+                # SLIDE_MAX windows of max_step.
+                recent = bool(out.slides) and t - out.slides[-1][1] < SLIDE_RESUME
+                n = min(2.0 * out.slides[-1][2], SLIDE_MAX) if recent else 1.0
+                start = t
+                stops = _table_events(provider, -1)[1:] if table else []
+                t, x, code = _slide(rhs, out, t, x, min(t + n * kw["max_step"], duration),
+                                    t_eval, monitors, stops, kw)
+                out.slides.append((start, t, n))
+                if code == -1:
                     return out.done(), None, crossings
+                if code:
+                    out.t.append(np.array([t]))
+                    out.y.append(x[:, None])
+                    return out.done(), _stop_message(code, t, x, provider), crossings
             continue
         code = LEFT_TABLE if k == len(monitors) + 1 else ON_FAILED_POINT
         out.t.append(np.array([t]))                  # the run ends at the located stop
@@ -333,11 +344,14 @@ def _integrate(rhs: Any, provider: Any, memo: _Memo, duration: float, x0: np.nda
 
 
 #: crossings closer than this (s) in a row of :data:`SLIDE_COUNT` mean the pose slides along a jump
-SLIDE_WINDOW = 1e-4
+SLIDE_WINDOW = 2e-3
 SLIDE_COUNT = 4
-#: half width (m) in y of the force average that carries a pose sliding along a contact jump
+#: sliding that resumes within this (s) of a window's end doubles the next window, up to
+#: SLIDE_MAX times max_step
+SLIDE_RESUME = 5e-3
+SLIDE_MAX = 8.0
+#: half width (m) in y of the band over which a pose sliding along a jump blends its two sides
 SLIDE_HALF_WIDTH = 5e-5
-_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(4)
 
 
 def _sliding(crossings: list[float]) -> bool:
@@ -347,31 +361,45 @@ def _sliding(crossings: list[float]) -> bool:
 
 
 def _slide(rhs: Any, out: _Joined, t: float, x: np.ndarray, end: float, t_eval: np.ndarray,
-           monitors: list[Any], kw: dict[str, Any]) -> tuple[float, np.ndarray, bool]:
+           monitors: list[Any], stops: list[Any], kw: dict[str, Any]
+           ) -> tuple[float, np.ndarray, int]:
     """Integrate ``[t, end]`` without the jump events (a pose sliding along a jump); the output
-    samples in the window go to ``out``. Returns the end time, state and solve_ivp's success.
+    samples in the window go to ``out``. ``stops``: the table's edge and failed-point events.
+    Returns the end time and state and 0, -1 (solve_ivp failed) or the stop code of the event
+    that ended the window (:data:`LEFT_TABLE`, :data:`ON_FAILED_POINT`).
 
     On a rigid table the contact geometry, hence the force, jumps at a contact jump; when the
     forces on both sides push the wheelset onto the jump it slides along it (Filippov), and an
     integrator on the discontinuous right-hand side crawls (measured: 0.005 simulated s per wall
-    s on two measured wheels). In the window the right-hand side is the average over
-    ``y +- SLIDE_HALF_WIDTH`` (4-point Gauss): continuous, it takes the load from one contact to
-    the other over 0.1 mm of lateral motion, the scale over which an elastic two-point contact
-    does; away from jumps it equals the exact force to O(width^2)."""
-    def smooth(tt: float, xx: np.ndarray) -> np.ndarray:
-        acc = np.zeros_like(xx)
-        for g, w in zip(_GAUSS_X, _GAUSS_W, strict=True):
-            xs = np.array(xx, float)
-            xs[0] += SLIDE_HALF_WIDTH * g
-            acc += 0.5 * w * rhs(tt, xs)
-        return acc
+    s on two measured wheels). In the window, within ``SLIDE_HALF_WIDTH`` of the jump's ``y``
+    (the crossing's), the right-hand side blends linearly the two sides' values at the band's
+    edges: continuous, it takes the load from one contact to the other over 0.1 mm of lateral
+    motion, the scale over which an elastic two-point contact does; outside the band it is the
+    exact one."""
+    y_j, eps = float(x[0]), SLIDE_HALF_WIDTH
 
-    win = solve_ivp(smooth, (t, end), x, events=monitors or None, dense_output=True, **kw)
+    def smooth(tt: float, xx: np.ndarray) -> np.ndarray:
+        d = float(xx[0]) - y_j
+        if abs(d) >= eps:
+            return rhs(tt, xx)
+        lo, hi = np.array(xx, float), np.array(xx, float)
+        lo[0], hi[0] = y_j - eps, y_j + eps
+        w = 0.5 * (d + eps) / eps
+        return (1.0 - w) * rhs(tt, lo) + w * rhs(tt, hi)
+
+    evs = monitors + stops
+    win = solve_ivp(smooth, (t, end), x, events=evs or None, dense_output=True, **kw)
     te = t_eval[(t_eval > t) & (t_eval <= float(win.t[-1]))]
     out.add(SimpleNamespace(t=te, y=win.sol(te) if te.size else np.empty((x.size, 0)),
-                            nfev=win.nfev, t_events=win.t_events or [], status=win.status,
-                            message=win.message), len(monitors))
-    return float(win.t[-1]), win.y[:, -1].copy(), win.status != -1
+                            nfev=win.nfev, t_events=(win.t_events or [])[:len(monitors)],
+                            status=win.status, message=win.message), len(monitors))
+    if win.status == -1:
+        return float(win.t[-1]), win.y[:, -1].copy(), -1
+    if win.status == 1:
+        k = next(k for k in range(len(monitors), len(evs)) if len(win.t_events[k]))
+        code = LEFT_TABLE if k == len(monitors) else ON_FAILED_POINT
+        return float(win.t_events[k][-1]), np.asarray(win.y_events[k][-1], float), code
+    return float(win.t[-1]), win.y[:, -1].copy(), 0
 
 
 def _over_jump(provider: Any, x: np.ndarray) -> np.ndarray:
