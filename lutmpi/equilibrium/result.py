@@ -45,7 +45,6 @@ class PoseResult:
     contacts: dict[str, list[ContactResult]] = field(
         default_factory=lambda: {"left": [], "right": []})
     time: float = 0.0             # s, CPU time of this solve
-    n_roots: int = 0              # rigid two-wheel contact solutions found (locus roll scan)
 
     @property
     def n_contacts(self) -> dict[str, int]:

@@ -10,14 +10,26 @@ raised.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
+from typing import Any
 
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.methods import METHOD_NAMES, get_method
 from lutmpi.equilibrium.result import NO_CONTACT, PROFILE_END, STATUS, PoseResult
 from lutmpi.pose.mesh import solve_mesh_pose
 from lutmpi.pose.rigid import rigid_result
+from lutmpi.table.schema import D
 
-__all__ = ["METHOD_NAMES", "solve_pose"]
+__all__ = ["METHOD_NAMES", "POINT_QUANTITIES", "solve_pose"]
+
+#: Per-point quantities the pose layer adds to every result, by schema name: a function of
+#: ``(result, rigid, scene)`` each, set as the result's attribute of that name, which
+#: ``table/compute.py`` stores. A new per-point quantity of every method is one line here plus
+#: its ``Field`` in ``table/schema.py``; a result not made here (an error record) stores the
+#: field's fill value.
+POINT_QUANTITIES: dict[str, Callable[[PoseResult, RigidSolution, Any], Any]] = {
+    D.n_roots: lambda res, rigid, scene: rigid.n_roots,
+}
 
 
 def solve_pose(
@@ -49,7 +61,8 @@ def solve_pose(
     else:
         res = (solve_mesh_pose(scene, rigid, m, full_mesh) if m.uses_mesh
                else rigid_result(scene, rigid, name))
-    res.n_roots = rigid.n_roots
+    for name, quantity in POINT_QUANTITIES.items():
+        setattr(res, name, quantity(res, rigid, scene))
     if rigid.success and rigid.at_end:
         # the data do not reach the contact: the numbers are kept, the status says why
         res.success, res.status = False, PROFILE_END

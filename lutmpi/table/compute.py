@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from lutmpi.equilibrium.result import SIDES, PoseResult
+from lutmpi.pose.solve import POINT_QUANTITIES
 from lutmpi.table.grid import Grid
 from lutmpi.table.schema import FIELDS_BY_NAME, N_SLOTS, D, Field
 
@@ -75,7 +76,10 @@ def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
         if FIELDS_BY_NAME[name].per_contact:
             wanted.append((name, result_attribute(name)))
         elif name not in DERIVED:
-            arr[i] = getattr(result, result_attribute(name))
+            attr = result_attribute(name)
+            if attr in POINT_QUANTITIES and not hasattr(result, attr):
+                continue       # not a pose solve's result (an error record): the fill value
+            arr[i] = getattr(result, attr)
     if D.n_contacts in out:
         out[D.n_contacts][i] = [len(result.contacts.get(s, [])) for s in SIDES]
     if not wanted:

@@ -7,8 +7,8 @@ test imports the pure chain in a fresh interpreter and checks what it loaded at 
 
 Rules:
 
-1. **Direction.** ``profiles -> geometry -> contact -> equilibrium -> pose -> table core
-   (compute, schema, grid, interp, jumps) -> dynamics`` stay pure: a module of one layer imports
+1. **Direction.** ``profiles -> geometry -> contact -> equilibrium -> table schema -> pose ->
+   table core (compute, grid, interp, jumps) -> dynamics`` stay pure: a module of one layer imports
    only its own layer, the layers before it and :data:`BASE` -- never a later layer and never an
    unlayered module (``config``, ``scene``, ``parallel``, ``table.h5io``/``api``, ``reports``,
    ``commands``, ...).
@@ -40,9 +40,9 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("lutmpi.geometry",),
     ("lutmpi.contact",),
     ("lutmpi.equilibrium",),
+    ("lutmpi.table.schema",),
     ("lutmpi.pose",),
-    ("lutmpi.table.compute", "lutmpi.table.schema", "lutmpi.table.grid", "lutmpi.table.interp",
-     "lutmpi.table.jumps"),
+    ("lutmpi.table.compute", "lutmpi.table.grid", "lutmpi.table.interp", "lutmpi.table.jumps"),
     ("lutmpi.dynamics",),
 )
 #: the only modules (or packages, by prefix) that may import mpi4py or h5py
@@ -216,7 +216,7 @@ def test_imports_go_one_way():
     where = "\n".join(f"  {MODULES[a].relative_to(REPO_ROOT)}:{lines} imports {b}"
                       for (a, b), lines in sorted(new.items()))
     assert not new, ("imports against the layering (profiles -> geometry -> contact -> "
-                     "equilibrium -> pose -> table core -> dynamics; commands only from "
+                     "equilibrium -> schema -> pose -> table core -> dynamics; commands only from "
                      f"cli):\n{where}")
 
 

@@ -23,6 +23,7 @@ import pytest
 
 from lutmpi.equilibrium.result import ContactResult, PoseResult
 from lutmpi.paths import REPO_ROOT
+from lutmpi.pose.solve import POINT_QUANTITIES
 from lutmpi.table import schema
 from lutmpi.table.compute import ATTRIBUTE_OF, DERIVED, fill_record, result_attribute
 from lutmpi.table.schema import FIELDS, FIELDS_BY_NAME
@@ -34,10 +35,29 @@ def _attributes(cls) -> set[str]:
 
 
 def test_every_field_is_an_attribute_of_the_pose_result():
-    point, contact = _attributes(PoseResult), _attributes(ContactResult)
+    # a per-point value is a declared attribute or one the pose layer sets (POINT_QUANTITIES)
+    point = _attributes(PoseResult) | set(POINT_QUANTITIES)
+    contact = _attributes(ContactResult)
     missing = [f.name for f in FIELDS if f.name not in DERIVED
                and result_attribute(f.name) not in (contact if f.per_contact else point)]
     assert not missing, f"schema fields with no result attribute to fill them from: {missing}"
+
+
+def test_a_point_quantity_of_the_pose_layer_is_stored_and_an_error_record_keeps_the_fill():
+    """``n_roots`` is set by the pose layer's registry, not declared on PoseResult: a solved pose
+    stores its value, a result made elsewhere (an error record) the field's fill value."""
+    from lutmpi.config import load_config
+    from lutmpi.pose.solve import solve_pose
+    from lutmpi.scene import Scene
+    from lutmpi.table.compute import pose_to_record
+
+    assert "n_roots" not in _attributes(PoseResult)
+    scene = Scene.from_config(load_config(REPO_ROOT / "configs" / "small_test.toml"))
+    fields = [FIELDS_BY_NAME[schema.D.n_roots]]
+    solved = pose_to_record(solve_pose(scene, 0.0, 0.0, "reference"), fields)
+    assert solved[schema.D.n_roots] == scene.locus.solve(0.0, 0.0).n_roots >= 1
+    error = pose_to_record(PoseResult(0.0, 0.0, "reference"), fields)
+    assert error[schema.D.n_roots] == FIELDS_BY_NAME[schema.D.n_roots].fill
 
 
 def test_alias_map_names_only_schema_fields():
