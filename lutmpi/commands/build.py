@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import importlib
 import logging
 from typing import Any
 
@@ -38,23 +37,11 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=run)
 
 
-def load_solver_hook(spec: str) -> tuple[Any, Any]:
-    """``"module:function"`` -> ``(solver, make_scene or None)``."""
-    from lutmpi.errors import ConfigError
-
-    module_name, sep, func_name = spec.partition(":")
-    try:
-        module = importlib.import_module(module_name) if sep else None
-        return getattr(module, func_name), getattr(module, "make_scene", None)
-    except (ImportError, AttributeError) as exc:
-        raise ConfigError(f"--solver expects an importable module:function, got {spec!r} "
-                          f"({exc})") from exc
-
-
 def run(args: argparse.Namespace) -> int:
     from lutmpi.config.load import load_config
     from lutmpi.parallel.mpi import command_comm
     from lutmpi.parallel.runner import build_table
+    from lutmpi.parallel.solver_hook import load_solver_hook
 
     comm = command_comm()
     config = load_config(args.config)

@@ -30,7 +30,6 @@ def register(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from lutmpi.commands.simulate import make_provider
     from lutmpi.dynamics.critical import (
         jacobian_critical_speed,
         linear_critical_speed,
@@ -39,9 +38,10 @@ def run(args: argparse.Namespace) -> int:
         rolling_offset,
     )
     from lutmpi.dynamics.stability import format_rate
+    from lutmpi.providers import make_provider
 
     args.output = None
-    provider, params, source = make_provider(args)
+    provider, params, source = make_provider(args.config, args.table, args.online, args.method)
     y_e = rolling_offset(provider)
     if y_e != 0.0:
         print(f"{source}: the two wheels differ: pure rolling at y = {y_e * 1e3:.3f} mm "

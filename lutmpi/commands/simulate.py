@@ -35,40 +35,6 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=run)
 
 
-def make_provider(args: argparse.Namespace) -> tuple[Any, Any, str]:
-    """(provider, params, description) from the command-line arguments."""
-    from lutmpi.config.load import load_config
-    from lutmpi.dynamics.contact_provider import OnlineProvider, TableProvider
-    from lutmpi.dynamics.wheelset import WheelsetParams
-    from lutmpi.errors import ConfigError
-
-    cfg = load_config(args.config)
-    if args.online:
-        from lutmpi.scene import Scene
-
-        method = args.method or cfg.contact.method
-        params = WheelsetParams.from_config(cfg)
-        return OnlineProvider(Scene.from_config(cfg), method), params, f"online:{method}"
-    if not args.table:
-        raise ConfigError("--table is required unless --online is given")
-    from lutmpi.table import Table
-
-    table = Table.open(args.table)
-    method = args.method or table.methods[0]
-    return TableProvider(table, method), params_from_table(table), f"table:{args.table}:{method}"
-
-
-def params_from_table(table: Any) -> Any:
-    """Wheelset data (E, nu, r0, vertical load) from the attributes the table's build wrote
-    (:data:`lutmpi.table.schema.DYNAMICS_ATTRIBUTES`); the rest is Table 2 of the paper."""
-    from lutmpi.dynamics.wheelset import WheelsetParams
-
-    return WheelsetParams(young=float(table.attribute("young_modulus")),
-                          poisson=float(table.attribute("poisson_ratio")),
-                          r0=float(table.attribute("nominal_radius")),
-                          vertical_load=float(table.attribute("vertical_load")))
-
-
 def write_run(path: str | Path, run: Any, source: str) -> None:
     """Time histories to HDF5 (serial h5py), SI units in each dataset's ``units`` attribute."""
     import h5py
@@ -105,9 +71,10 @@ def write_run(path: str | Path, run: Any, source: str) -> None:
 def run(args: argparse.Namespace) -> int:
     from lutmpi.dynamics.simulate import simulate
     from lutmpi.outpath import check_output_file
+    from lutmpi.providers import make_provider
 
     check_output_file(args.output, "simulation output")
-    provider, params, source = make_provider(args)
+    provider, params, source = make_provider(args.config, args.table, args.online, args.method)
     res = simulate(provider, params, args.speed, args.duration, vy0=args.vy0,
                    method=args.integrator)
     write_run(args.output, res, source)

@@ -27,8 +27,8 @@ def register(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from lutmpi.commands.build import load_solver_hook
     from lutmpi.parallel.mpi import command_comm
+    from lutmpi.parallel.solver_hook import load_solver_hook
 
     if args.list:
         from lutmpi.config.sweep import expand_sweep

@@ -17,11 +17,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lutmpi.commands.simulate import params_from_table
 from lutmpi.config import load_config
 from lutmpi.dynamics.contact_provider import OnlineProvider, TableProvider
 from lutmpi.dynamics.simulate import simulate
 from lutmpi.paths import REPO_ROOT
+from lutmpi.providers import params_from_table
 from lutmpi.scene_config import scene_from_config, side_profiles
 from lutmpi.table import Table
 from lutmpi.table.jumps import wheel_flange_angle

@@ -87,7 +87,7 @@ def test_table_provider_equals_table_interp(small_table):
 def test_table_provider_reads_build_attributes_not_profiles(small_table):
     """Issue 15: the flange angle and E, nu, r0, load come from attributes written at build
     time (S1002's flange flank: 70 deg = 1.2217 rad to within the profile's tabulation)."""
-    from lutmpi.commands.simulate import params_from_table
+    from lutmpi.providers import params_from_table
 
     table = Table.open(small_table[1])
     assert math.degrees(table.attribute("wheel_flange_angle")) == pytest.approx(70.0, abs=0.1)

@@ -270,10 +270,10 @@ def test_table_error_report_equals_a_direct_recomputation(tmp_path):
 def test_simulate_reaching_a_failed_point_stops_with_its_status(tmp_path):
     """The test solver's corner (y < -8.9 mm, yaw < -0.119 rad) does not converge: a run started
     there stops at once with ON_FAILED_POINT and a message naming the pose, no number."""
-    from lutmpi.commands.simulate import params_from_table
     from lutmpi.dynamics.contact_provider import TableProvider
     from lutmpi.dynamics.simulate import ON_FAILED_POINT, simulate
     from lutmpi.parallel.runner import build_table
+    from lutmpi.providers import params_from_table
     from lutmpi.table import Table
     from tests.support import faulty_solver
     from tests.support.tables import write_config
