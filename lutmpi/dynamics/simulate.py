@@ -376,6 +376,8 @@ def _slide(rhs: Any, out: _Joined, t: float, x: np.ndarray, end: float, t_eval: 
     edges: continuous, it takes the load from one contact to the other over 0.1 mm of lateral
     motion, the scale over which an elastic two-point contact does; outside the band it is the
     exact one."""
+    if end <= t:
+        return t, x, 0
     y_j, eps = float(x[0]), SLIDE_HALF_WIDTH
 
     def smooth(tt: float, xx: np.ndarray) -> np.ndarray:
@@ -410,10 +412,10 @@ def _over_jump(provider: Any, x: np.ndarray) -> np.ndarray:
     discontinuous monitor (the contact angle) would then give solve_ivp's root bracket the same
     sign at both ends (``brentq``: "f(a) and f(b) must have different signs", seen on an
     asymmetric measured wheelset). 1 nm (or 1 nrad of yaw) is far below the tolerances."""
-    speed = math.hypot(x[2], x[3])
-    if speed == 0.0:
+    rate = max(abs(x[2]), abs(x[3]))
+    if rate == 0.0:
         return x
-    dt = 1e-9 / max(abs(x[2]), abs(x[3]))
+    dt = 1e-9 / rate
     ahead = x.copy()
     ahead[0] += x[2] * dt
     ahead[1] += x[3] * dt

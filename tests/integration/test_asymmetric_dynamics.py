@@ -25,23 +25,11 @@ from lutmpi.providers import params_from_table
 from lutmpi.scene_config import scene_from_config, side_profiles
 from lutmpi.table import Table
 from lutmpi.table.jumps import wheel_flange_angle
-from tests.support.tables import env
+from tests.support.tables import TWO_MEASURED_WHEELS, env
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(900)]
 LUTMPI = str(Path(sys.executable).with_name("lutmpi"))
-P = REPO_ROOT / "profiles"
-CONFIG = f"""
-[wheel.left]
-profile = "{P / 'Car7216_0001r.whl'}"
-[wheel.right]
-profile = "{P / 'Car7358_0001r.whl'}"
-nominal_radius_mm = 459.0
-[rail.left]
-profile = "{P / 'MBench_UIC60_v3.prr'}"
-inclination = "none"
-[rail.right]
-profile = "{P / 'rail_left_iter288.ban'}"
-inclination = "none"
+CONFIG = TWO_MEASURED_WHEELS.replace("[rail.left]", "nominal_radius_mm = 459.0\n[rail.left]") + """
 [grid]
 y_mm = [-8.0, 8.0, 33]
 yaw_rad = [-0.01, 0.01, 5]

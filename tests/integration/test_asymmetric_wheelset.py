@@ -15,23 +15,12 @@ import pytest
 
 from lutmpi.paths import REPO_ROOT
 from lutmpi.table import Table
-from tests.support.tables import differences, env
+from tests.support.tables import TWO_MEASURED_WHEELS, differences, env
 
 pytestmark = [pytest.mark.timeout(900),  # 23 s on a quiet machine, 300 s at load 13
               pytest.mark.skipif(shutil.which("mpirun") is None, reason="mpirun not installed")]
 LUTMPI = str(Path(sys.executable).with_name("lutmpi"))
-P = REPO_ROOT / "profiles"
-CONFIG = f"""
-[wheel.left]
-profile = "{P / 'Car7216_0001r.whl'}"
-[wheel.right]
-profile = "{P / 'Car7358_0001r.whl'}"
-[rail.left]
-profile = "{P / 'MBench_UIC60_v3.prr'}"
-inclination = "none"
-[rail.right]
-profile = "{P / 'rail_left_iter288.ban'}"
-inclination = "none"
+CONFIG = TWO_MEASURED_WHEELS + """
 [grid]
 y_mm = [-6.0, 6.0, 5]
 yaw_rad = [-0.01, 0.01, 3]

@@ -17,6 +17,23 @@ HOOK = "tests.support.faulty_solver:solve"
 LUTMPI = str(Path(sys.executable).with_name("lutmpi"))
 
 
+#: two different measured wheels (profiles/) on two different rails: the per-side sections of a
+#: config (issue 10's asymmetric wheelset)
+_P = REPO_ROOT / "profiles"
+TWO_MEASURED_WHEELS = f"""
+[wheel.left]
+profile = "{_P / 'Car7216_0001r.whl'}"
+[wheel.right]
+profile = "{_P / 'Car7358_0001r.whl'}"
+[rail.left]
+profile = "{_P / 'MBench_UIC60_v3.prr'}"
+inclination = "none"
+[rail.right]
+profile = "{_P / 'rail_left_iter288.ban'}"
+inclination = "none"
+"""
+
+
 def write_config(directory: Path, ny: int = 7, nyaw: int = 5, methods: tuple[str, ...] = (
         "load_centre",), quantities: tuple[str, ...] = ("all",), name: str = "t.toml") -> Path:
     """A small config (S1002/UIC60, grid ±9 mm x ±0.12 rad) written to ``directory``."""
