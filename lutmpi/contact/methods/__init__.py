@@ -4,22 +4,24 @@ A method module defines ``METHOD``, a :class:`~lutmpi.contact.methods.base.Conta
 name, its properties and its stage of the pose solve. The mesh methods of §4.2
 (:class:`~lutmpi.contact.methods.base.MeshMethod`) own a compiled kernel built from the shared
 stages of :mod:`lutmpi.contact.kernels` (eq. 2 search, §4.6 split); ``reference`` is the
-semi-analytic locus solution. A new method is one module plus one line in :data:`METHODS`.
+semi-analytic locus solution. A new method is one module plus one line in :data:`MODULES`.
 """
 
 from __future__ import annotations
 
-from lutmpi.contact.methods import load_centre, max_distance, max_normal_distance, reference
+import importlib
+
 from lutmpi.contact.methods.base import ContactMethod, MeshContact, MeshMethod
 
+#: the method modules of this package, in registry order (one line per method)
+MODULES: tuple[str, ...] = (
+    "max_distance",
+    "max_normal_distance",
+    "load_centre",
+    "reference",
+)
 METHODS: dict[str, ContactMethod] = {
-    m.name: m
-    for m in (
-        max_distance.METHOD,
-        max_normal_distance.METHOD,
-        load_centre.METHOD,
-        reference.METHOD,
-    )
+    m.name: m for m in (importlib.import_module(f"{__name__}.{name}").METHOD for name in MODULES)
 }
 #: every method's name, in registry order
 METHOD_NAMES: tuple[str, ...] = tuple(METHODS)
