@@ -170,9 +170,3 @@ def _per_side(value: T | Mapping[str, T]) -> dict[str, T]:
         return dict(value)
     return {name: value for name in SIDES}
 
-
-def load_scene_profiles(cfg):
-    """Moved to :func:`lutmpi.scene_config.load_scene_profiles` (the config edge)."""
-    from lutmpi.scene_config import load_scene_profiles as load
-
-    return load(cfg)

@@ -134,8 +134,3 @@ def _load(cfg: Config, kind: str, sec, wear_cfg, key: str) -> Profile:
             prof = wear.rail_side_wear(prof, wear_cfg.side_mm)
     return prof
 
-
-def load_scene_profiles(cfg: Config) -> tuple[Profile, Profile]:
-    """The left wheel and left rail profiles of a config (the right ones: :func:`side_profiles`)."""
-    wheels, rails = side_profiles(cfg)
-    return wheels["left"], rails["left"]

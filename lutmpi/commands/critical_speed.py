@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
               "(Δr = 0); the linear models are about that pose")
     lp = linear_parameters(provider, params, amplitude=args.amplitude, centre=y_e)
     lin = linear_critical_speed(lp, params)
-    v_j, f_j = jacobian_critical_speed(provider, params, amplitude=args.amplitude)
+    v_j, f_j = jacobian_critical_speed(provider, params, amplitude=args.amplitude, centre=y_e)
     out: dict[str, Any] = {"source": source, "classical": lin.as_dict(),
                            "linear": {"speed": v_j, "frequency": f_j}}
     print(f"{source}: linearised model (Jacobian of the simulated rhs): critical speed "

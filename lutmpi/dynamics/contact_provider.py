@@ -392,10 +392,10 @@ class OnlineProvider:
         self.scene, self.method = scene, method
         self.h_y, self.h_yaw = h_y, h_yaw
         if flange_angle is None:
-            from lutmpi.table.jumps import wheel_flange_angle
+            from lutmpi.table.jumps import wheelset_flange_angle
 
-            flange_angle = min(wheel_flange_angle(scene.side(name).wheel.profile)
-                               for name in ("left", "right"))
+            flange_angle = wheelset_flange_angle(scene.side(name).wheel.profile
+                                                 for name in SIDES)
         self.flange_angle = flange_angle
         self._solve, self._record = solve_pose, pose_to_record
         self.calls = 0

@@ -241,8 +241,11 @@ def linear_critical_speed(lp: LinearParameters, params: WheelsetParams, v_min: f
     return LinearCritical(float(vc), freq, lp)
 
 
+_NO_STEADY: set[float] = set()   # rolling offsets already warned about by rhs_jacobian
+
+
 def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float,
-                 amplitude: float = 3.5e-4) -> np.ndarray:
+                 amplitude: float = 3.5e-4, centre: float | None = None) -> np.ndarray:
     """Jacobian (5 x 5) of :func:`lutmpi.dynamics.wheelset.wheelset_rhs` at centred rolling.
 
     The linearisation of the nonlinear model itself (same contact forces, creep law with its
@@ -251,12 +254,12 @@ def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float
     piecewise linear in y), the others small. The linearisation is about the steady rolling
     state: the spin perturbation at its equilibrium (the rolling radius differs from the
     nominal r0) and, for a wheelset with two different wheels, the lateral offset where Δr
-    vanishes (:func:`rolling_offset`; 0 for a symmetric wheelset).
+    vanishes (``centre``, m; None: :func:`rolling_offset`, 0 for a symmetric wheelset).
     """
     def f(x: np.ndarray) -> np.ndarray:
         return wheelset_rhs(0.0, x, speed, params, provider)
 
-    yc = rolling_offset(provider)
+    yc = rolling_offset(provider) if centre is None else float(centre)
     spin_eq = brentq(lambda s: f(np.array([yc, 0.0, 0.0, 0.0, s]))[4], -5.0, 5.0, xtol=1e-12)
     x0 = np.array([yc, 0.0, 0.0, 0.0, spin_eq])
     if yc != 0.0:   # two different wheels: the steady state also has a small yaw (the lateral
@@ -267,7 +270,8 @@ def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float
         if sol.success:
             q = sol.x * scale
             x0 = np.array([q[0], q[1], 0.0, 0.0, q[2]])
-        else:
+        elif yc not in _NO_STEADY:   # once per offset, not once per speed of a scan
+            _NO_STEADY.add(yc)
             log.warning("no steady rolling state near y = %.3f mm (%s): Jacobian about the "
                         "pure-rolling offset", yc * 1e3, sol.message)
     steps = np.array([amplitude, 1e-5, 1e-4, 1e-5, 1e-3])
@@ -281,11 +285,15 @@ def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float
 
 def jacobian_critical_speed(provider: ContactProvider, params: WheelsetParams,
                             amplitude: float = 3.5e-4, v_min: float = 1.0,
-                            v_max: float = 100.0, n_scan: int = 25) -> tuple[float, float]:
+                            v_max: float = 100.0, n_scan: int = 25,
+                            centre: float | None = None) -> tuple[float, float]:
     """Lowest V where an eigenvalue of :func:`rhs_jacobian` crosses into the right half-plane;
-    returns (V m/s, frequency Hz); (0, nan) unstable everywhere, (inf, nan) never."""
+    returns (V m/s, frequency Hz); (0, nan) unstable everywhere, (inf, nan) never. The rolling
+    offset (``centre``, m; None: :func:`rolling_offset`) is found once for every speed."""
+    yc = rolling_offset(provider) if centre is None else float(centre)
+
     def sigma(v: float) -> complex:
-        ev = np.linalg.eigvals(rhs_jacobian(provider, params, v, amplitude))
+        ev = np.linalg.eigvals(rhs_jacobian(provider, params, v, amplitude, centre=yc))
         return ev[np.argmax(ev.real)]
 
     vs = np.geomspace(v_min, v_max, n_scan)

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from lutmpi.equilibrium.result import SIDES, PoseResult
-from lutmpi.pose.solve import POINT_QUANTITIES
+from lutmpi.pose.solve import POINT_QUANTITIES, solve_pose
 from lutmpi.table.grid import Grid
 from lutmpi.table.schema import FIELDS_BY_NAME, N_SLOTS, D, Field
 
@@ -40,8 +40,6 @@ def default_solver() -> Solver:
     """The production solver. Its first call per method in a process loads the compiled
     kernels (numba's cache, ~0.3 s); that call is made once more so the one-off cost does not
     enter the first point's ``compute_time`` (results are identical: the solve is pure)."""
-    from lutmpi.pose.solve import solve_pose
-
     warm: set[str] = set()
 
     def solve(scene, y: float, yaw: float, method: str) -> PoseResult:

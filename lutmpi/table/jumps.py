@@ -401,6 +401,12 @@ def wheel_flange_angle(wheel: Any) -> float:
     return float(np.arctan(np.max(-wheel.slope(flank))))
 
 
+def wheelset_flange_angle(wheels: Any) -> float:
+    """The wheelset's one flange angle (rad) from its wheel profiles: the smaller one's, whose
+    Nadal limit is the lower (the dynamics has one flange angle for both wheels)."""
+    return min(wheel_flange_angle(w) for w in wheels)
+
+
 def dynamics_attributes(config: Any, wheels: Any) -> dict[str, float]:
     """What the dynamics reads from a table (:data:`lutmpi.table.schema.DYNAMICS_ATTRIBUTES`),
     SI, from the resolved config and the (worn) wheel profiles it was built with.
@@ -410,7 +416,7 @@ def dynamics_attributes(config: Any, wheels: Any) -> dict[str, float]:
     (the lower, conservative Nadal limit), the nominal radius their mean (the forward rolling
     speed; each wheel's own radius enters through the table's rolling radius)."""
     radii = [config.wheel.side(name).nominal_radius_m for name in wheels]
-    return {"wheel_flange_angle": min(wheel_flange_angle(w) for w in wheels.values()),
+    return {"wheel_flange_angle": wheelset_flange_angle(wheels.values()),
             "young_modulus": config.material.young_GPa * 1e9,
             "poisson_ratio": float(config.material.poisson),
             "nominal_radius": float(np.mean(radii)),
