@@ -66,13 +66,17 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         def solve(y: float, yaw: float, method: str = method) -> dict[str, np.ndarray]:
             return pose_to_record(solver(scene, y, yaw, method), lfields)
 
-        js, n_cells = _locate(comm, grid, arrays, solve, lfields, config.output.refine)
+        mesh = mesh_resolution(scene, method)
+        js, n_cells = _locate(comm, grid, arrays, solve, lfields, config.output.refine, mesh)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
             "interpolants": json.dumps(modes), "candidate_m": _jumps.CANDIDATE_M,
             "confirm_m": _jumps.CONFIRM_M, "tol_m": _jumps.TOL_M,
             "refine_tol": json.dumps(_jumps.REFINE_TOL), "min_width_m": _jumps.MIN_WIDTH_M,
+            "refine_mesh_spacing_m": json.dumps(None if mesh is None else mesh.spacing.tolist()),
+            "refine_mesh_centroid": bool(mesh is not None and mesh.centroid),
+            "refine_mesh_step_fraction": _jumps.MESH_STEP_FRACTION,
             # the same value on every rank (collective metadata): rank 0's
             "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
         if comm.rank == 0:
@@ -85,6 +89,23 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
     log.debug("jumps step %.2f s", time.perf_counter() - t0)
 
 
+def mesh_resolution(scene: Any, method: str) -> _jumps.MeshResolution | None:
+    """The mesh that bounds the refinement of a mesh method's table
+    (:func:`lutmpi.table.jumps.tolerances`): per wheel (left, right) the lateral node spacing of
+    the wheel and the rail mesh; None for a method without a mesh, or when the solve is not
+    lutmpi's own on a :class:`~lutmpi.scene.Scene` (a solver hook: its mesh is unknown)."""
+    from lutmpi.contact.methods import get_method
+    from lutmpi.equilibrium.result import SIDES
+    from lutmpi.scene import Scene
+
+    m = get_method(method)
+    if not m.uses_mesh or not isinstance(scene, Scene):
+        return None
+    return _jumps.MeshResolution(
+        np.array([[scene.side(n).wheel_mesh.h_lat, scene.side(n).rail_mesh.h_lat]
+                  for n in SIDES]), m.centroid)
+
+
 def _share(comm: Any, items: list[Any], work: Any) -> list[Any]:
     """``work(item)`` for a cyclic share of ``items`` on each rank; every rank gets all results
     in item order."""
@@ -95,11 +116,13 @@ def _share(comm: Any, items: list[Any], work: Any) -> list[Any]:
 
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
-            refine: bool) -> tuple[_jumps.JumpSet, int]:
+            refine: bool, mesh: _jumps.MeshResolution | None) -> tuple[_jumps.JumpSet, int]:
     """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
     interval, both shared among the ranks."""
+    t0 = time.perf_counter()
     cells = _jumps.candidate_cells(arrays)
     res = _share(comm, cells, lambda c: _jumps.refine_cell(arrays, grid.y, grid.yaw, c, solve))
+    t1 = time.perf_counter()
     found = [jp for jps, _ in res for jp in jps]
     extra = [(c[0], y, r) for c, (_, samples) in zip(cells, res, strict=True) for y, r in samples]
     items = []
@@ -108,6 +131,8 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
                                     [(y, r) for jj, y, r in extra if jj == j])
         items += [(j, knots[k], knots[k + 1]) for k in _jumps.refinement_items(knots)]
     refined = _share(comm, items, lambda it: _jumps.refine_interval(
-        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve))
+        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve, mesh=mesh))
+    log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),
+              t1 - t0, len(items), time.perf_counter() - t1)
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
     return _jumps.assemble(found, extra, grid.yaw.size, fields), len(cells)

@@ -60,6 +60,28 @@ MIN_WIDTH_M = 1e-6
 #: (a smooth function: 1/4 per halving, a kink: 1/2, a square-root onset next to a jump: 0.71;
 #: solver noise does not fall: stop there)
 REFINE_GAIN = 0.8
+#: a mesh method's contact point moves along the profile in steps (the nodes in contact change
+#: one at a time): a whole node spacing h for a method that picks a node, about h / n for a
+#: centroid over n node columns across the patch (:func:`tolerances`); a straight line between
+#: knots on two steps misses the midpoint by up to half a step, so a quantity's tolerance is at
+#: least this fraction of its step (refining below it chases the mesh, not the contact)
+MESH_STEP_FRACTION = 0.5
+
+
+@dataclass(frozen=True)
+class MeshResolution:
+    """What bounds the refinement of a mesh method's table (:func:`tolerances`).
+
+    Attributes
+    ----------
+    spacing : ndarray, shape (2, 2)
+        Per wheel (left, right): the lateral node spacing of the wheel and of the rail mesh, m.
+    centroid : bool
+        The method's contact point is a weighted mean over the nodes in contact.
+    """
+
+    spacing: np.ndarray
+    centroid: bool
 
 Record = dict[str, np.ndarray]
 PoseSolver = Callable[[float, float], Record]
@@ -168,7 +190,8 @@ def _node(arrays: dict[str, np.ndarray], i: int, j: int) -> Record:
 
 def refine_cell(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.ndarray,
                 cell: tuple[int, int], solve: PoseSolver, *, tol: float = TOL_M,
-                threshold: float = CANDIDATE_M, confirm: float = CONFIRM_M) -> list[Jump]:
+                threshold: float = CANDIDATE_M, confirm: float = CONFIRM_M
+                ) -> tuple[list[Jump], list[tuple[float, Record]]]:
     """Locate the jumps of one candidate cell by bisection with direct solves.
 
     Parameters
@@ -230,28 +253,92 @@ def _search(lo: float, rlo: Record, hi: float, rhi: Record, solve: Callable[[flo
     return left + [found] + right
 
 
-def _miss(r0: Record, r1: Record, rm: Record) -> float:
+def _primary_max(recs: Sequence[Record], name: str) -> np.ndarray:
+    """Per wheel, the largest magnitude of a per-contact quantity's primary contact over
+    ``recs`` (NaN where no record has it; shape (2,))."""
+    v = np.stack([np.abs(np.asarray(r[name], float)[:, 0]) for r in recs])
+    return np.where(np.isfinite(v).any(axis=0), np.nanmax(np.where(np.isfinite(v), v, -1.0),
+                                                          axis=0), np.nan)
+
+
+def tolerances(recs: Sequence[Record], mesh: MeshResolution | None) -> dict[str, Any]:
+    """Refinement tolerance per quantity for an interval with knot and midpoint records
+    ``recs``: :data:`REFINE_TOL`, raised for a mesh method to :data:`MESH_STEP_FRACTION` of the
+    step its contact point moves in (per wheel, primary contact).
+
+    The point moves along the profile in steps of ``h / n``: ``n = 1`` for a method that picks
+    a node; for a centroid, ``n = 2 a / h`` node columns across the patch, whose half-width
+    ``a = sqrt(2 delta / (kappa_w + kappa_r))`` follows from the indentation ``delta`` and the
+    transverse curvatures (no floor where the pair is conformal, ``kappa_w + kappa_r <= 0``, or
+    these quantities are not stored). The rolling radius then moves in steps of
+    ``h |sin(gamma)| / n``, the contact angle in steps of ``max(h_w |kappa_w|, h_r |kappa_r|) / n``
+    (``gamma``: contact angle).
+
+    Parameters
+    ----------
+    recs : sequence of dict
+        The records of the interval (ends and midpoint).
+    mesh : MeshResolution or None
+        The method's mesh; None for a method without one (the reference).
+
+    Returns
+    -------
+    dict
+        Quantity -> tolerance (float, or (2,) per wheel for the per-contact quantities).
+    """
+    tol: dict[str, Any] = dict(REFINE_TOL)
+    names = recs[0].keys()
+    curv = D.curv_wheel_transverse in names and D.curv_rail_transverse in names
+    if mesh is None or not curv:
+        return tol
+    hw, hr = mesh.spacing[:, 0], mesh.spacing[:, 1]
+    kw = _primary_max(recs, D.curv_wheel_transverse)
+    kr = _primary_max(recs, D.curv_rail_transverse)
+    n = np.ones(2)
+    if mesh.centroid:
+        if D.indentation not in names:
+            return tol
+        krel = np.stack([np.asarray(r[D.curv_wheel_transverse], float)[:, 0]
+                         + np.asarray(r[D.curv_rail_transverse], float)[:, 0] for r in recs])
+        delta = np.stack([np.asarray(r[D.indentation], float)[:, 0] for r in recs])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            half = np.sqrt(2.0 * delta / krel)           # patch half-width, m (NaN: conformal)
+        half = np.where(np.isfinite(half), half, np.inf).min(axis=0)
+        n = np.maximum(1.0, 2.0 * half / np.minimum(hw, hr))
+    if D.contact_angle in names:
+        gamma = np.minimum(_primary_max(recs, D.contact_angle), 0.5 * math.pi)
+        tol[D.rolling_radius] = np.fmax(REFINE_TOL[D.rolling_radius],
+                                        MESH_STEP_FRACTION * hw * np.sin(gamma) / n)
+    tol[D.contact_angle] = np.fmax(REFINE_TOL[D.contact_angle],
+                                   MESH_STEP_FRACTION * np.fmax(hw * kw, hr * kr) / n)
+    return tol
+
+
+def _miss(r0: Record, r1: Record, rm: Record, tols: dict[str, Any]) -> float:
     """Largest miss of the straight line between two records at their midpoint record, in
-    units of :data:`REFINE_TOL` (NaN-safe: a quantity missing anywhere is not checked)."""
+    units of ``tols`` (:func:`tolerances`; NaN-safe: a quantity missing anywhere is not
+    checked)."""
     worst = 0.0
-    for name, tol in REFINE_TOL.items():
+    for name in REFINE_TOL:
         if name not in rm:
             continue
         a, b, m = (np.asarray(r[name], float) for r in (r0, r1, rm))
         if a.ndim:                       # per contact: the primary contact of each wheel
             a, b, m = a[:, 0], b[:, 0], m[:, 0]
-        d = np.abs(0.5 * (a + b) - m)
+        d = np.abs(0.5 * (a + b) - m) / tols[name]
         d = d[np.isfinite(d)]
         if d.size:
-            worst = max(worst, float(d.max()) / tol)
+            worst = max(worst, float(d.max()))
     return worst
 
 
 def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, solve: PoseSolver,
-                    min_width: float = MIN_WIDTH_M, parent: float = math.inf
-                    ) -> list[tuple[float, Record]]:
+                    min_width: float = MIN_WIDTH_M, mesh: MeshResolution | None = None,
+                    parent: tuple[float, dict] | None = None) -> list[tuple[float, Record]]:
     """Midpoint solves of one interval of a piece, recursively where the straight line misses
-    the midpoint by more than :data:`REFINE_TOL`.
+    the midpoint by more than its :func:`tolerances` (``mesh``: the method's mesh, as there)
+    and by less than :data:`REFINE_GAIN` times the parent interval's miss (``parent``: its miss
+    and tolerances; both misses in the parent's tolerances).
 
     A midpoint whose discrete state (status, contact count) differs from an end is dropped and
     not refined further: a jump the grid-level search did not see (two changes that cancel in
@@ -260,7 +347,7 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
     Returns
     -------
     list of (float, dict)
-        The solved poses ``(y, record)`` kept as knots.
+        The solved poses ``(y, record)`` kept as knots, sorted by y.
     """
     if x1 - x0 < 2 * min_width:
         return []
@@ -270,10 +357,12 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
     if km != _keys(r0)[0] or km != _keys(r1)[0]:
         return []
     out = [(xm, rm)]
-    miss = _miss(r0, r1, rm)
-    if miss > 1.0 and miss < REFINE_GAIN * parent:
-        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, miss) + out
-               + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, miss))
+    tols = tolerances((r0, r1, rm), mesh)
+    miss = _miss(r0, r1, rm, tols)
+    if miss > 1.0 and (parent is None
+                       or _miss(r0, r1, rm, parent[1]) < REFINE_GAIN * parent[0]):
+        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, (miss, tols)) + out
+               + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, mesh, (miss, tols)))
     return out
 
 
@@ -365,7 +454,7 @@ def assemble(jumps: Sequence[Jump], extra: Sequence[tuple[int, float, Record]], 
 
 def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.ndarray,
                  solve: PoseSolver, fields: Sequence[Field], *, refine: bool = True,
-                 **kw: Any) -> JumpSet:
+                 mesh: MeshResolution | None = None, **kw: Any) -> JumpSet:
     """Every jump of one method of a table, and the refinement knots, serially (the steps the
     build runs in parallel: :func:`candidate_cells`, :func:`refine_cell`, :func:`column_knots`,
     :func:`refine_interval`, :func:`assemble`)."""
@@ -382,7 +471,8 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
             for k in refinement_items(knots):
                 (x0, r0, _), (x1, r1, _) = knots[k], knots[k + 1]
                 extra += [(j, y, r) for y, r in
-                          refine_interval(x0, r0, x1, r1, float(yaw_axis[j]), solve)]
+                          refine_interval(x0, r0, x1, r1, float(yaw_axis[j]), solve,
+                                          mesh=mesh)]
     return assemble(found, extra, yaw_axis.size, fields)
 
 

@@ -289,3 +289,88 @@ def test_simulate_reaching_a_failed_point_stops_with_its_status(tmp_path):
                    yaw0=-0.12, events=False)
     assert not res.success and res.status == ON_FAILED_POINT
     assert "reached a failed table point at t = 0.00000 s, pose y = -8.9500 mm" in res.message
+
+
+# -- refinement bounded by the mesh (issue 14): the mesh's steps are not chased ---------------
+H = 0.25e-3                                      # lateral node spacing of both meshes, m
+GAMMA = math.radians(70.0)                       # a flange contact angle
+REF_NAMES = ("status", "n_contacts", "rolling_radius", "contact_angle", "z_g", "roll",
+             "indentation", "curv_wheel_transverse", "curv_rail_transverse")
+REF_FLDS = limit_fields([f for f in FIELDS if f.name in REF_NAMES])
+
+
+def flange_record(radius: float, *, delta: float = 5e-6, kappa: float = 0.0
+                  ) -> dict[str, np.ndarray]:
+    """A converged pose whose left wheel's primary contact has rolling radius ``radius`` at a
+    70 degree contact angle (indentation ``delta``, both curvatures ``kappa``), everything else
+    constant."""
+    rec = {f.name: f.empty((1,))[0] for f in REF_FLDS}
+    rec["status"] = np.int8(CONVERGED)
+    rec["n_contacts"] = np.array([1, 1], np.int8)
+    rec["z_g"], rec["roll"] = np.float64(0.46), np.float64(0.0)
+    for name, v in (("rolling_radius", [radius, 0.46]), ("contact_angle", [GAMMA, 0.003]),
+                    ("indentation", [delta, delta]), ("curv_wheel_transverse", [kappa, kappa]),
+                    ("curv_rail_transverse", [kappa, kappa])):
+        rec[name][:, 0] = v
+    return rec
+
+
+def node_mesh(centroid: bool = False) -> tj.MeshResolution:
+    return tj.MeshResolution(np.full((2, 2), H), centroid)
+
+
+def test_tolerances_follow_the_step_the_mesh_resolves():
+    """Closed forms: a node-picking method steps by h sin(gamma) in rolling radius and
+    h kappa in contact angle; a centroid over n = 2 a / h node columns, a = sqrt(2 delta /
+    (kappa_w + kappa_r)), by 1/n of that; no mesh, or a conformal pair: the fixed tolerances."""
+    kappa = 80.0
+    recs = [flange_record(0.47, kappa=kappa)] * 3
+    tol = tj.tolerances(recs, node_mesh())
+    assert tol["rolling_radius"][0] == pytest.approx(0.5 * H * math.sin(GAMMA))
+    assert tol["rolling_radius"][1] == tj.REFINE_TOL["rolling_radius"]   # 0.003 rad: below
+    assert tol["contact_angle"][0] == pytest.approx(0.5 * H * kappa)
+    n = 2.0 * math.sqrt(2.0 * 5e-6 / (2 * kappa)) / H                   # 2.0 node columns
+    tol = tj.tolerances(recs, node_mesh(centroid=True))
+    assert tol["rolling_radius"][0] == pytest.approx(0.5 * H * math.sin(GAMMA) / n)
+    assert tol["contact_angle"][0] == pytest.approx(0.5 * H * kappa / n)
+    assert tj.tolerances(recs, None) == tj.REFINE_TOL
+    conformal = [flange_record(0.47, kappa=-1.0)] * 3
+    tol = tj.tolerances(conformal, node_mesh(centroid=True))
+    assert tol["rolling_radius"][0] == tj.REFINE_TOL["rolling_radius"]
+
+
+def test_variation_below_the_mesh_step_is_not_chased_and_above_it_is_refined_to_it():
+    """On a 70 degree flange a node-picking solver's rolling radius moves in steps of
+    h sin(gamma) = 235 um: variation below half of that is below what the solver resolves. A
+    square-root onset whose misses stay below it (50 um at 0.5 mm, falling by 0.71 per halving)
+    is refined down to the minimum width when the refinement ignores the mesh, and left at one
+    midpoint with the mesh's tolerance. A true curvature far above the step (c y^2) is still
+    refined until a straight line between knots misses by at most the mesh's tolerance, and no
+    further."""
+    step = H * math.sin(GAMMA)
+    w = 0.5e-3
+    a = 50e-6 / ((math.sqrt(0.5) - 0.5) * math.sqrt(w))
+
+    def onset(y, yaw):
+        return flange_record(0.47 + a * math.sqrt(y))
+
+    r0, r1 = onset(0.0, 0.0), onset(w, 0.0)
+    free = tj.refine_interval(0.0, r0, w, r1, 0.0, onset)
+    bounded = tj.refine_interval(0.0, r0, w, r1, 0.0, onset, mesh=node_mesh())
+    assert len(bounded) == 1 and len(free) >= 16
+    assert min(np.diff([y for y, _ in free])) < 4 * tj.MIN_WIDTH_M
+
+    c = 1e4                                      # 1/m: misses c w^2 / 4 = 625 um over 0.5 mm
+
+    def bowl(y, yaw):
+        return flange_record(0.47 + c * y * y)
+
+    knots = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl, mesh=node_mesh())
+    ys = [0.0] + [y for y, _ in knots] + [w]
+    widths = np.diff(ys)
+    floor = 0.5 * step
+    # each last interval (two knot spacings wide: its midpoint is a knot) met the tolerance,
+    # its parent did not
+    assert (c * (2 * widths) ** 2 / 4 <= floor).all()
+    assert (c * (4 * widths) ** 2 / 4 > floor).all()
+    assert len(knots) == 7

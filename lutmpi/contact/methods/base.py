@@ -69,11 +69,15 @@ class MeshMethod(ContactMethod):
         load centre, the mean separation of two paraboloidal caps).
     rail_nodes : bool
         Whether the stage needs the window's rail nodes.
+    centroid : bool
+        Whether the contact point is a weighted mean over the nodes in contact (it then moves in
+        steps of about a node spacing over the nodes across the patch, not of a whole node).
     """
 
     kernel: Callable[..., Contacts] | None = None
     indentation_rate: float = 1.0
     rail_nodes: bool = False
+    centroid: bool = False
 
     @property
     def uses_mesh(self) -> bool:

@@ -105,4 +105,4 @@ def contacts(win, wheel, rail, pose):
 
 
 METHOD = MeshMethod("load_centre", "centroids of the intersecting volume, eqs. (6)-(7)",
-                    kernel=contacts, indentation_rate=0.5, rail_nodes=True)
+                    kernel=contacts, indentation_rate=0.5, rail_nodes=True, centroid=True)

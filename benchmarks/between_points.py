@@ -1,0 +1,132 @@
+"""A table between its grid points: a 1-D table (one yaw) queried every STEP along y against
+direct solves with the table's own method, for this tree and (``--base``) another one built in
+the same run (issues 11 and 14).
+
+    .venv/bin/python benchmarks/between_points.py configs/manchester_s1002_uic60_1in40.toml \
+        --method load_centre [--base /tmp/base]
+
+The config's y axis is kept and its yaw axis replaced by ``--yaw`` (one column). Each tree
+builds the table with its own ``lutmpi build`` (``PYTHONPATH`` = the tree); the queries
+(``Table.interp``, jump-aware) and the direct solves (``solve_pose``) run in this tree. Printed
+per table: build wall time, located jumps, extra knots, and the largest and RMS error of each
+wheel's primary rolling radius (um) and contact angle (mrad) over the query poses, split into
+*near* (within 0.02 mm of a located jump) and, by the larger primary contact angle of the two
+wheels, *tread* (below 5 degrees), *root* (5 to 30 degrees) and *flange* (above 30).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from lutmpi.config import load_config  # noqa: E402
+from lutmpi.equilibrium.result import SIDES  # noqa: E402
+from lutmpi.pose.solve import solve_pose  # noqa: E402
+from lutmpi.scene import Scene  # noqa: E402
+from lutmpi.table import Table  # noqa: E402
+
+NEAR_M = 2e-5
+#: contact-angle bands (rad): tread below the first, flange root up to the second, flange above
+BANDS_RAD = (np.radians(5.0), np.radians(30.0))
+
+
+def one_column_config(config: Path, method: str, yaw: float, out: Path) -> Path:
+    """The config with one yaw column and one method, profile paths made absolute."""
+    text = config.read_text()
+    lines = []
+    for line in text.splitlines():
+        key = line.split("=")[0].strip()
+        if key == "yaw_rad":
+            line = f"yaw_rad = [{yaw!r}, {yaw!r}, 1]"
+        elif key == "method":
+            line = f'method = "{method}"'
+        elif key == "profile" and '"' in line:
+            rel = line.split('"')[1]
+            line = f'profile = "{(config.parent / rel).resolve()}"'
+        lines.append(line)
+    out.write_text("\n".join(lines) + "\n")
+    return out
+
+
+def build(tree: Path, config: Path, out: Path) -> float:
+    """Wall time (s) of the tree's ``lutmpi build`` (its kernels compiled beforehand)."""
+    env = dict(os.environ, PYTHONPATH=str(tree), OMP_NUM_THREADS="1")
+    subprocess.run([sys.executable, "-m", "lutmpi.warmup"], check=True, capture_output=True,
+                   env=env, cwd=str(tree))
+    t0 = time.perf_counter()
+    res = subprocess.run([sys.executable, "-m", "lutmpi.cli", "build", str(config), "-o",
+                          str(out), "--force"], capture_output=True, text=True, env=env,
+                         cwd=str(tree))
+    if res.returncode != 0:
+        sys.exit(f"build in {tree} failed:\n{res.stderr[-3000:]}")
+    return time.perf_counter() - t0
+
+
+def direct(scene: Scene, ys: np.ndarray, yaw: float, method: str) -> np.ndarray:
+    """(n, 2 quantities, 2 wheels): primary rolling radius and contact angle per wheel."""
+    out = np.full((ys.size, 2, 2), np.nan)
+    for k, y in enumerate(ys):
+        r = solve_pose(scene, float(y), yaw, method)
+        for w, side in enumerate(SIDES):
+            if r.contacts[side]:
+                c = r.contacts[side][0]
+                out[k, :, w] = c.rolling_radius, c.contact_angle
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("config", type=Path)
+    ap.add_argument("--method", default="load_centre")
+    ap.add_argument("--yaw", type=float, default=0.0, help="the column's yaw, rad")
+    ap.add_argument("--step-mm", type=float, default=0.05, help="query step along y, mm")
+    ap.add_argument("--base", type=Path, help="another tree to build the same table with")
+    a = ap.parse_args()
+    tmp = Path(tempfile.mkdtemp(prefix="lutmpi-between-"))
+    cfgp = one_column_config(a.config.resolve(), a.method, a.yaw, tmp / "one_column.toml")
+    cfg = load_config(cfgp)
+    scene = Scene.from_config(cfg)
+    y0, y1, _ = cfg.grid.y_mm
+    ys = np.round(np.arange(y0, y1 + 1e-9, a.step_mm), 6) * 1e-3
+    print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  load {os.getloadavg()}  "
+          f"{a.config} {a.method}, yaw {a.yaw} rad, queries every {a.step_mm} mm")
+    trees = [("this", ROOT)] + ([("base", a.base.resolve())] if a.base else [])
+    walls = {name: build(tree, cfgp, tmp / f"{name}.h5") for name, tree in trees}
+    ref = direct(scene, ys, a.yaw, a.method)
+    gamma = np.nanmax(np.abs(ref[:, 1, :]), axis=1)
+    bands = {"tread": gamma < BANDS_RAD[0],
+             "root": (gamma >= BANDS_RAD[0]) & (gamma <= BANDS_RAD[1]),
+             "flange": gamma > BANDS_RAD[1]}
+    for name, _ in trees:
+        t = Table.open(tmp / f"{name}.h5")
+        rec = t.interp(ys, np.full_like(ys, a.yaw), a.method)
+        got = np.stack([rec["rolling_radius"][:, :, 0], rec["contact_angle"][:, :, 0]], axis=1)
+        err = np.nanmax(np.abs(got - ref), axis=2)
+        jy = t.jump_positions(a.method)[0]
+        jy = jy[np.isfinite(jy)]
+        near = (np.min(np.abs(ys[:, None] - jy[None, :]), axis=1) < NEAR_M if jy.size
+                else np.zeros(ys.size, bool))
+        knots = int(np.isfinite(t.jumps[a.method]["arrays"]["knot_y"]).sum())
+        print(f"{name}: build {walls[name]:.1f} s, {jy.size} jumps, {knots} extra knots")
+        for label, sel in [(k, ~near & b) for k, b in bands.items()] + [("near", near)]:
+            if not sel.any():
+                continue
+            e = err[sel]
+            print(f"  {label:6s} n={sel.sum():4d}  rolling radius max {e[:, 0].max() * 1e6:7.2f} "
+                  f"rms {np.sqrt(np.mean(e[:, 0] ** 2)) * 1e6:6.2f} um   contact angle max "
+                  f"{e[:, 1].max() * 1e3:6.3f} rms {np.sqrt(np.mean(e[:, 1] ** 2)) * 1e3:6.3f} "
+                  "mrad")
+
+
+if __name__ == "__main__":
+    main()
