@@ -10,6 +10,7 @@ found jumps are gathered in cell order: the result is the same for any number of
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import logging
 import time
@@ -108,11 +109,52 @@ def mesh_resolution(scene: Any, method: str) -> _jumps.MeshResolution | None:
 
 def _share(comm: Any, items: list[Any], work: Any) -> list[Any]:
     """``work(item)`` for a cyclic share of ``items`` on each rank; every rank gets all results
-    in item order."""
+    in item order (the pose records in them travel as columns: :func:`_pack`)."""
     mine = partition.split(len(items), comm.size, comm.rank, "cyclic")
     done = [(int(k), work(items[k])) for k in mine]
-    gathered = comm.bcast(comm.gather(done, root=0), root=0)
-    return [r for _, r in sorted((it for part in gathered for it in part), key=lambda it: it[0])]
+    if comm.size > 1:
+        parts = comm.bcast(comm.gather(_pack(done), root=0), root=0)
+        done = [it for part in parts for it in _unpack(*part)]
+    return [r for _, r in sorted(done, key=lambda it: it[0])]
+
+
+class _Ref(int):
+    """A pose record's row in the columns of :func:`_pack`."""
+
+
+def _pack(obj: Any) -> tuple[Any, dict[str, np.ndarray]]:
+    """``obj`` (lists, tuples, :class:`~lutmpi.table.jumps.Jump`, pose records: name -> array)
+    as a skeleton whose records are :class:`_Ref` rows, and the records stacked per name. Sent
+    between ranks, thousands of records pickled one by one cost seconds; their columns do not."""
+    recs: list[dict[str, np.ndarray]] = []
+
+    def walk(o: Any) -> Any:
+        if isinstance(o, dict):
+            recs.append(o)
+            return _Ref(len(recs) - 1)
+        if isinstance(o, _jumps.Jump):
+            return dataclasses.replace(o, rec_lo=walk(o.rec_lo), rec_hi=walk(o.rec_hi))
+        if isinstance(o, list | tuple):
+            return type(o)(walk(x) for x in o)
+        return o
+
+    skeleton = walk(obj)
+    names = list(recs[0]) if recs else []
+    return skeleton, {n: np.stack([np.asarray(r[n]) for r in recs]) for n in names}
+
+
+def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
+    """The object :func:`_pack` packed (each record's arrays are rows of the columns)."""
+    def walk(o: Any) -> Any:
+        if isinstance(o, _Ref):
+            return {n: c[o] for n, c in columns.items()}
+        if isinstance(o, _jumps.Jump):
+            return dataclasses.replace(o, rec_lo=walk(o.rec_lo), rec_hi=walk(o.rec_hi))
+        if isinstance(o, list | tuple):
+            return type(o)(walk(x) for x in o)
+        return o
+
+    return walk(skeleton)
 
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,

@@ -374,3 +374,26 @@ def test_variation_below_the_mesh_step_is_not_chased_and_above_it_is_refined_to_
     assert (c * (2 * widths) ** 2 / 4 <= floor).all()
     assert (c * (4 * widths) ** 2 / 4 > floor).all()
     assert len(knots) == 7
+
+
+def test_records_cross_ranks_as_columns_unchanged():
+    """The jump step's transport (:func:`lutmpi.parallel.jumps_step._pack`): records inside
+    lists, tuples and jumps come back with the same names, dtypes, shapes and bits."""
+    import pickle
+
+    from lutmpi.parallel import jumps_step as js
+
+    recs = [flange_record(0.47 + 1e-6 * k, kappa=float(k)) for k in range(5)]
+    jump = tj.Jump(3, 1e-3, 1.005e-3, recs[0], recs[1], 1, 2)
+    done = [(0, ([jump], [(1e-3, recs[2])])), (4, [(2e-3, recs[3]), (3e-3, recs[4])])]
+    back = js._unpack(*pickle.loads(pickle.dumps(js._pack(done))))
+    assert back[0][0] == 0 and back[1][0] == 4
+    pairs = [(jump.rec_lo, back[0][1][0][0].rec_lo), (jump.rec_hi, back[0][1][0][0].rec_hi),
+             (recs[2], back[0][1][1][0][1]), (recs[3], back[1][1][0][1]),
+             (recs[4], back[1][1][1][1])]
+    assert back[0][1][0][0].lo == jump.lo and back[1][1][1][0] == 3e-3
+    for want, got in pairs:
+        assert list(want) == list(got)
+        for name in want:
+            a, b = np.asarray(want[name]), np.asarray(got[name])
+            assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
