@@ -128,3 +128,29 @@ def test_numba_equals_numpy_kernel(method):
     linearly in the 0.1 mm locus table while numpy used the exact spline (C differed by 3e-12 m,
     the pose by 5e-9 m)."""
     _check_kernel(method)
+
+
+def test_walking_nearest_search_answers_as_the_bisection():
+    """:func:`lutmpi.contact.kernels.nearest_from` walks from the previous query's position:
+    for query sequences in window order, reversed, at random, outside the samples and on the
+    samples themselves it gives the bisection's (``searchsorted``) position and nearest point."""
+    from lutmpi.contact.kernels import K_NEAR, nearest_from
+
+    rng = np.random.default_rng(3)
+    xs = np.sort(np.concatenate([rng.uniform(-0.04, 0.04, 300), [0.01, 0.01]]))  # a duplicate
+    ys = 0.01 * np.sin(60 * xs) + rng.normal(0, 1e-4, xs.size)
+
+    def bisection(x, y):
+        i0 = int(np.searchsorted(xs, x))
+        idx = np.arange(max(i0 - K_NEAR, 0), min(i0 + K_NEAR + 1, xs.size))
+        d2 = (xs[idx] - x) ** 2 + (ys[idx] - y) ** 2
+        return int(idx[np.argmin(d2)]), i0
+
+    window = np.repeat(np.linspace(-0.01, 0.012, 40), 7) + rng.normal(0, 2e-5, 280)
+    for qx in (window, window[::-1], rng.uniform(-0.05, 0.05, 500), xs, xs[::-1],
+               np.array([-1.0, 1.0, -1.0, 0.0])):
+        qy = 0.01 * np.sin(60 * qx) + rng.normal(0, 3e-4, qx.size)
+        pos = 0
+        for x, y in zip(qx, qy, strict=True):
+            bi, pos = nearest_from(float(x), float(y), xs, ys, K_NEAR, pos)
+            assert (bi, pos) == bisection(x, y)

@@ -12,8 +12,8 @@ from numba import njit
 
 from lutmpi.contact.kernels import (
     K_NEAR,
-    _nearest_slice,
     empty_contacts,
+    nearest_from,
     packed,
     search_wheel_nodes,
     wheel_normal,
@@ -28,6 +28,7 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
     side, centre, R = win.side, pose.centre, pose.R
     rail_pts, rail_nrm = win.rail_pts, win.rail_nrm
     ws_, wr, wdr, d, dphi = wheel.s, wheel.r, wheel.dr, wheel.d, wheel.dphi
+    pos = 0
     for j in range(rail_pts.shape[0]):
         q0 = rail_pts[j, 0] - centre[0]
         q1 = rail_pts[j, 1] - centre[1]
@@ -36,7 +37,7 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
         c1 = R[0, 1] * q0 + R[1, 1] * q1 + R[2, 1] * q2
         c2 = R[0, 2] * q0 + R[1, 2] * q1 + R[2, 2] * q2
         rho = np.sqrt(c0 * c0 + c2 * c2)
-        k = _nearest_slice(side * c1, rho, ws_, wr, d, K_NEAR)
+        k, pos = nearest_from(side * c1 - d, rho, ws_, wr, K_NEAR, pos)
         g = -1
         for h in range(ws.nvol):
             if ws.kmin[h] - 1 <= k <= ws.kmax[h] + 1:
