@@ -162,10 +162,11 @@ def scan_adaptive(lo, hi, step, lip, yaw, y, left, right):
     n_max = int((hi - lo) / step) + 3
     xs = np.empty(n_max)
     hs = np.empty(n_max)
+    gl, gr, fine, U, PZ = _scratch(left, right)
     x = lo
     k = 0
     while True:
-        h = scan(np.array([x]), yaw, y, left, right)[0]
+        h = _scan_one(x, yaw, y, left, right, gl, gr, fine, U, PZ)
         xs[k], hs[k] = x, h
         k += 1
         if x >= hi or k >= n_max:
@@ -178,19 +179,31 @@ def scan_adaptive(lo, hi, step, lip, yaw, y, left, right):
 
 
 @njit(cache=True)
+def _scratch(left, right):
+    """Work arrays of :func:`_scan_one` for the per-side arguments ``left``, ``right``."""
+    m = max(left[0].size, right[0].size, left[1].size, right[1].size)
+    return (np.empty(left[0].size), np.empty(right[0].size), np.empty(m), np.empty(m),
+            np.empty(m))
+
+
+@njit(cache=True)
+def _scan_one(x, yaw, y, left, right, gl, gr, fine, U, PZ):
+    """``h`` at roll ``x`` with the work arrays of :func:`_scratch` (allocated once per scan,
+    not once per roll)."""
+    R = rotation(yaw, x)
+    hl = scan_side(1.0, left, R, y, gl, fine, U, PZ)
+    hr = scan_side(-1.0, right, R, y, gr, fine, U, PZ)
+    return hl - hr if (np.isfinite(hl) and np.isfinite(hr)) else np.nan
+
+
+@njit(cache=True)
 def scan(rolls, yaw, y, left, right):
     """``h(roll) = z_left - z_right`` at every roll of ``rolls`` (NaN where a wheel has no point
     over its rail), pitch 0 (per-side arguments: the module's docstring)."""
     out = np.empty(rolls.size)
-    gl = np.empty(left[0].size)
-    gr = np.empty(right[0].size)
-    m = max(left[0].size, right[0].size, left[1].size, right[1].size)
-    fine, U, PZ = np.empty(m), np.empty(m), np.empty(m)
+    gl, gr, fine, U, PZ = _scratch(left, right)
     for i in range(rolls.size):
-        R = rotation(yaw, rolls[i])
-        hl = scan_side(1.0, left, R, y, gl, fine, U, PZ)
-        hr = scan_side(-1.0, right, R, y, gr, fine, U, PZ)
-        out[i] = hl - hr if (np.isfinite(hl) and np.isfinite(hr)) else np.nan
+        out[i] = _scan_one(rolls[i], yaw, y, left, right, gl, gr, fine, U, PZ)
     return out
 
 
