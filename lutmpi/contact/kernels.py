@@ -247,6 +247,44 @@ def set_profile_coordinates(out, side, pose, wheel):
 
 
 @njit(cache=True)
+def locus_at_slices(ws, ls, lphi, lgap):
+    """The rigid locus (samples ``ls`` with angles ``lphi`` and gaps ``lgap``, m; NaN: not over
+    the rail) interpolated at the mesh slices ``ws``: locus angle and gap per slice, the gap
+    +inf off the samples and where no point is over the rail."""
+    phi = np.interp(ws, ls, lphi)
+    gap = np.interp(ws, ls, np.where(np.isfinite(lgap), lgap, 1.0))
+    for i in range(ws.size):
+        if ws[i] < ls[0] or ws[i] > ls[-1] or gap[i] >= 1.0:
+            gap[i] = np.inf
+    return phi, gap
+
+
+@njit(cache=True)
+def window_slices(gap_k, phi_star, r, depth, h_circ, dphi):
+    """The slices of a window: every slice next to (or at) one whose locus gap ``gap_k`` is
+    within ``depth`` of the smallest, with the angle index of its locus point ``mc`` and its
+    angular half-width in nodes ``mh`` (circle against a rail of effective radius at most
+    ``r / 0.2``: a conservative bound, plus two nodes). Returns ``(ks, mc, mh)``."""
+    n = gap_k.size
+    limit = np.min(gap_k) + depth
+    mark = np.zeros(n, dtype=np.bool_)
+    for k in range(n):
+        if gap_k[k] <= limit:
+            mark[max(k - 1, 0)] = True
+            mark[k] = True
+            mark[min(k + 1, n - 1)] = True
+    ks = np.nonzero(mark)[0]
+    mc = np.empty(ks.size, dtype=np.int64)
+    mh = np.empty(ks.size, dtype=np.int64)
+    for q in range(ks.size):
+        k = ks[q]
+        half_arc = np.sqrt(2.0 * (r[k] / 0.2) * depth) + 2.0 * h_circ
+        mc[q] = int(np.round(phi_star[k] / dphi))
+        mh[q] = int(np.ceil(half_arc / h_circ))
+    return ks, mc, mh
+
+
+@njit(cache=True)
 def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt):
     """Wheel nodes of a window: slices ``ks`` with angle indices ``mc ± mh``; with ``filt``,
     only the nodes whose vertical gap to the rail is at most ``limit`` (m). Returns (k, m, body

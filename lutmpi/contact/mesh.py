@@ -22,6 +22,7 @@ from lutmpi.contact.kernels import (
     WheelArrays,
     WindowArrays,
     window_rail_nodes,
+    window_slices,
     window_wheel_nodes,
 )
 from lutmpi.errors import GeometryError
@@ -196,13 +197,10 @@ def build_window(
     if full:
         ks = np.nonzero(np.isfinite(gap_k))[0]
         half_arc = np.full(ks.size, 0.25 * wmesh.wheel.r0)
+        mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
+        mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
     else:
-        ks = np.nonzero(gap_k <= gmin + depth)[0]
-        ks = np.unique(np.clip(np.concatenate([ks - 1, ks, ks + 1]), 0, gap_k.size - 1))
-        # conservative angular half-width: circle vs rail with an effective radius <= r / 0.2
-        half_arc = np.sqrt(2.0 * (wmesh.r[ks] / 0.2) * depth) + 2.0 * wmesh.h_circ
-    mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
-    mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
+        ks, mc, mh = window_slices(gap_k, phi_star, wmesh.r, depth, wmesh.h_circ, wmesh.dphi)
     n_nodes = int(np.sum(2 * mh + 1))
     if n_nodes > MAX_WINDOW_NODES:     # e.g. 0.001 mm meshes: a clear error, not a MemoryError
         raise GeometryError(

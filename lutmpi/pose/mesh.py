@@ -9,6 +9,7 @@ import time
 
 import numpy as np
 
+from lutmpi.contact.kernels import locus_at_slices
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.mesh import Window, build_window
 from lutmpi.contact.records import SIDE_SIGN, contact_records
@@ -54,10 +55,7 @@ def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> di
         # the locus at the rigid pose, sampled every 0.1 mm, interpolated at the mesh slices
         # (window selection only: the interpolation error is a few nm of gap)
         loc = rigid.loci[name]
-        phi = np.interp(wm.s, loc.s, loc.phi)
-        gap = np.interp(wm.s, loc.s, np.where(np.isfinite(loc.gap), loc.gap, 1.0))
-        gap[(wm.s < loc.s[0]) | (wm.s > loc.s[-1])] = np.inf
-        gap[gap >= 1.0] = np.inf
+        phi, gap = locus_at_slices(wm.s, loc.s, loc.phi, loc.gap)
         out[name] = build_window(
             side, wm, rm, centre, R, phi, gap, depth,
             with_rail=method.rail_nodes, full=full,
