@@ -30,10 +30,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from lutmpi.config import load_config  # noqa: E402
-from lutmpi.equilibrium.result import SIDES  # noqa: E402
 from lutmpi.pose.solve import solve_pose  # noqa: E402
 from lutmpi.scene import Scene  # noqa: E402
 from lutmpi.table import Table  # noqa: E402
+from lutmpi.table.compute import pose_to_record  # noqa: E402
+from lutmpi.table.schema import FIELDS_BY_NAME, D  # noqa: E402
 
 NEAR_M = 2e-5
 #: contact-angle bands (rad): tread below the first, flange root up to the second, flange above
@@ -73,14 +74,13 @@ def build(tree: Path, config: Path, out: Path) -> float:
 
 
 def direct(scene: Scene, ys: np.ndarray, yaw: float, method: str) -> np.ndarray:
-    """(n, 2 quantities, 2 wheels): primary rolling radius and contact angle per wheel."""
-    out = np.full((ys.size, 2, 2), np.nan)
+    """(n, 2 quantities, 2 wheels): the primary contact's rolling radius and contact angle per
+    wheel, as the table stores them (slot 0: :func:`lutmpi.table.compute.pose_to_record`)."""
+    fields = [FIELDS_BY_NAME[D.rolling_radius], FIELDS_BY_NAME[D.contact_angle]]
+    out = np.empty((ys.size, 2, 2))
     for k, y in enumerate(ys):
-        r = solve_pose(scene, float(y), yaw, method)
-        for w, side in enumerate(SIDES):
-            if r.contacts[side]:
-                c = r.contacts[side][0]
-                out[k, :, w] = c.rolling_radius, c.contact_angle
+        rec = pose_to_record(solve_pose(scene, float(y), yaw, method), fields)
+        out[k] = rec[D.rolling_radius][:, 0], rec[D.contact_angle][:, 0]
     return out
 
 
@@ -110,7 +110,7 @@ def main() -> None:
     for name, _ in trees:
         t = Table.open(tmp / f"{name}.h5")
         rec = t.interp(ys, np.full_like(ys, a.yaw), a.method)
-        got = np.stack([rec["rolling_radius"][:, :, 0], rec["contact_angle"][:, :, 0]], axis=1)
+        got = np.stack([rec[D.rolling_radius][:, :, 0], rec[D.contact_angle][:, :, 0]], axis=1)
         err = np.nanmax(np.abs(got - ref), axis=2)
         jy = t.jump_positions(a.method)[0]
         jy = jy[np.isfinite(jy)]
