@@ -122,39 +122,36 @@ class _Ref(int):
     """A pose record's row in the columns of :func:`_pack`."""
 
 
+def _map_records(obj: Any, fn: Any) -> Any:
+    """``obj`` (lists, tuples, :class:`~lutmpi.table.jumps.Jump`, pose records) with every pose
+    record (a dict; a :class:`_Ref` when unpacking) replaced by ``fn(record)``."""
+    if isinstance(obj, dict | _Ref):
+        return fn(obj)
+    if isinstance(obj, _jumps.Jump):
+        return dataclasses.replace(obj, rec_lo=fn(obj.rec_lo), rec_hi=fn(obj.rec_hi))
+    if isinstance(obj, list | tuple):
+        return type(obj)(_map_records(x, fn) for x in obj)
+    return obj
+
+
 def _pack(obj: Any) -> tuple[Any, dict[str, np.ndarray]]:
-    """``obj`` (lists, tuples, :class:`~lutmpi.table.jumps.Jump`, pose records: name -> array)
-    as a skeleton whose records are :class:`_Ref` rows, and the records stacked per name. Sent
-    between ranks, thousands of records pickled one by one cost seconds; their columns do not."""
+    """``obj`` as a skeleton whose pose records are :class:`_Ref` rows, and the records stacked
+    per name. Sent between ranks, thousands of records pickled one by one cost seconds; their
+    columns do not."""
     recs: list[dict[str, np.ndarray]] = []
 
-    def walk(o: Any) -> Any:
-        if isinstance(o, dict):
-            recs.append(o)
-            return _Ref(len(recs) - 1)
-        if isinstance(o, _jumps.Jump):
-            return dataclasses.replace(o, rec_lo=walk(o.rec_lo), rec_hi=walk(o.rec_hi))
-        if isinstance(o, list | tuple):
-            return type(o)(walk(x) for x in o)
-        return o
+    def ref(rec: dict[str, np.ndarray]) -> _Ref:
+        recs.append(rec)
+        return _Ref(len(recs) - 1)
 
-    skeleton = walk(obj)
+    skeleton = _map_records(obj, ref)
     names = list(recs[0]) if recs else []
     return skeleton, {n: np.stack([np.asarray(r[n]) for r in recs]) for n in names}
 
 
 def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
     """The object :func:`_pack` packed (each record's arrays are rows of the columns)."""
-    def walk(o: Any) -> Any:
-        if isinstance(o, _Ref):
-            return {n: c[o] for n, c in columns.items()}
-        if isinstance(o, _jumps.Jump):
-            return dataclasses.replace(o, rec_lo=walk(o.rec_lo), rec_hi=walk(o.rec_hi))
-        if isinstance(o, list | tuple):
-            return type(o)(walk(x) for x in o)
-        return o
-
-    return walk(skeleton)
+    return _map_records(skeleton, lambda row: {n: c[row] for n, c in columns.items()})
 
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
