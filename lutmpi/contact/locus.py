@@ -357,9 +357,10 @@ class LocusSolver:
 
     def brackets(self, y: float, yaw: float) -> list[tuple[float, float, bool]]:
         """Roll intervals holding one root each, with its stability: ``(a, b, stable)``. The
-        scan steps by ``max(SCAN_STEP, |h| / lipschitz)``: no root is skipped, and far from
-        the roots the scan takes long steps. The bisections and extremum searches of
-        :func:`find_brackets` run compiled."""
+        scan steps by at least ``max(SCAN_STEP, |h| / lipschitz)`` and, where both ends
+        certify it root-free, by up to twice that (:func:`~lutmpi.contact.rigid_kernels.
+        scan_adaptive`): no root is skipped, and far from the roots the scan takes long steps.
+        The bisections and extremum searches of :func:`find_brackets` run compiled."""
         y, yaw, sides = float(y), float(yaw), self._scan_sides
         x, h = rk.scan_adaptive(float(self.scan_rolls[0]), float(self.scan_rolls[-1]), SCAN_STEP,
                               self.lipschitz, yaw, y, *sides)

@@ -191,6 +191,48 @@ def test_compiled_searches_equal_the_python_ones_to_the_bit(thinned_scene):
     assert checked > 100
 
 
+def test_two_point_scan_skips_no_root_and_fewer_points(thinned_scene):
+    # the roll scan tries twice the one-point step |h| / lip and keeps the point when both ends
+    # certify the interval root-free (issue 14): every interval it leaves is root-free by one of
+    # the two rules or no wider than the scan step, it takes fewer points than the one-point
+    # rule, and the brackets found from it are those found from the uniform 0.5 mrad scan
+    from lutmpi.contact.locus import SCAN_STEP
+
+    L = thinned_scene.locus
+    lo, hi = float(L.scan_rolls[0]), float(L.scan_rolls[-1])
+    tried = 0
+    for y, yaw in [(8.0 * MM, 0.0), (7.0 * MM, 0.02), (-6.0 * MM, -0.05), (3.0 * MM, 0.1),
+                   (0.0, 0.0), (9.5 * MM, 0.0)]:
+        # the invariant holds for any bound (a small one makes the two-point tries fail often)
+        for lip in (L.lipschitz, 3.0):
+            x, h = rk.scan_adaptive(lo, hi, SCAN_STEP, lip, yaw, y, *L._scan_sides)
+            assert x[0] == lo and x[-1] == hi and np.all(np.diff(x) > 0)
+            assert np.array_equal(h, L.scan(y, yaw, x), equal_nan=True)
+            for a, b, ha, hb in zip(x[:-1], x[1:], h[:-1], h[1:], strict=True):
+                dx = b - a
+                one = np.isfinite(ha) and abs(ha) >= lip * dx * (1 - 1e-12)
+                two = (np.isfinite(ha) and np.isfinite(hb) and ha * hb > 0
+                       and abs(ha) + abs(hb) >= lip * dx * (1 - 1e-12))
+                assert one or two or dx <= SCAN_STEP * (1 + 1e-9), (y, yaw, lip, a, b)
+        # the one-point rule's point count on the same poses
+        x, h = rk.scan_adaptive(lo, hi, SCAN_STEP, L.lipschitz, yaw, y, *L._scan_sides)
+        n_one, xo = 1, lo
+        while xo < hi:
+            ho = float(L.scan(y, yaw, np.array([xo]))[0])
+            xo = min(xo + (max(SCAN_STEP, abs(ho) / L.lipschitz) if np.isfinite(ho)
+                           else SCAN_STEP), hi)
+            n_one += 1
+        assert x.size < 0.8 * n_one, (x.size, n_one)
+        hfun = lambda r, y=y, yaw=yaw: L.scan(y, yaw, r)  # noqa: E731
+        roots = lambda br: [0.5 * (a + b) for a, b, _ in br]  # noqa: E731
+        got = find_brackets(x, hfun, h=h, lip=L.lipschitz)
+        want = find_brackets(L.scan_rolls, hfun, lip=L.lipschitz)
+        assert len(got) == len(want) and [g[2] for g in got] == [w[2] for w in want]
+        assert np.allclose(roots(got), roots(want), atol=SCAN_STEP)
+        tried += len(want)
+    assert tried >= 8  # the poses hold roots (three at y = 8 mm): the comparison is real
+
+
 @pytest.mark.parametrize("max_secant", [12, 2, 0])
 def test_compiled_local_solve_equals_the_python_one_to_the_bit(thinned_scene, max_secant):
     # the local solve (secant from roll 0, Brent's method where the secant stops: forced by
