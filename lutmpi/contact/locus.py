@@ -217,13 +217,6 @@ class LocusSide:
         sp, c = self.samp, self.coarse
         return (c, *self.local_args, sp.s[c].copy(), sp.r[c].copy(), sp.dr[c].copy())
 
-    def locus(self, y: float, R: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-        """Locus angles (rad), vertical gaps (m, G at height 0) of every sample, and the
-        touching height of G (m), at lateral shift ``y`` and rotation ``R``."""
-        sp, lim = self.samp, self.lim
-        return rk.locus(self.sign, sp.s, sp.r, sp.dr, self.wheel.d, R, float(y), lim[0], lim[1],
-                        self.rail.height_table[2], lim[2], lim[3])
-
     def at_end(self, gap: np.ndarray, i: int) -> bool:
         """True when sample ``i`` (the gap minimum) is a first/last usable point of the wheel,
         or next to a point that is not over the rail (the end of the rail's data)."""
@@ -289,6 +282,8 @@ class LocusSolver:
         n = int(np.ceil(self.roll_max / SCAN_STEP))
         self.scan_rolls = np.linspace(-n * SCAN_STEP, n * SCAN_STEP, 2 * n + 1)
         self._memo: dict[tuple, RigidSolution] = {}
+        # the whole loci of the pose being solved, by (y, yaw, roll): rk.full_locus's result
+        self._loci: dict[tuple[float, float, float], tuple] = {}
         self._scan_sides = tuple(self.sides[name].scan_args for name in SIDES)
         self._local_sides = tuple(self.sides[name].local_args for name in SIDES)
 
@@ -320,13 +315,10 @@ class LocusSolver:
     def heights(self, y: float, yaw: float, roll: float,
                 sub: Mapping[str, np.ndarray] | None = None) -> tuple[float, float]:
         """Touching heights (left, right) of G at this roll; ``sub`` restricts each side's
-        samples (sorted indices). The gaps are kept in ``self._last_gap`` (per side)."""
+        samples (sorted indices)."""
         idx = [sd.samp.all_idx if sub is None else sub[name] for name, sd in self.sides.items()]
-        gaps = [np.empty(i.size) for i in idx]
-        zl, zr, il, ir = rk.heights(float(y), float(yaw), float(roll), *self._local_sides,
-                                    idx[0], idx[1], gaps[0], gaps[1])
-        self._last_gap = dict(zip(self.sides, gaps, strict=True))
-        self._last_min = dict(zip(self.sides, (il, ir), strict=True))
+        zl, zr, _, _ = rk.heights(float(y), float(yaw), float(roll), *self._local_sides,
+                                  idx[0], idx[1], np.empty(idx[0].size), np.empty(idx[1].size))
         return zl, zr
 
     def _h(self, y: float, yaw: float, roll: float, sub=None) -> float:
@@ -340,8 +332,11 @@ class LocusSolver:
         the whole profile (solved again if the minimum moved: a contact jump); compiled
         (:func:`lutmpi.contact.rigid_kernels.local_root`). Returns the roll (None when the
         iteration finds no root) and the number of ``h`` evaluations."""
-        roll, calls, status = rk.local_root(float(y), float(yaw), float(xtol), int(max_secant),
-                                            float(self.lever), *self._local_sides)
+        roll, calls, status, full = rk.local_root(float(y), float(yaw), float(xtol),
+                                                  int(max_secant), float(self.lever),
+                                                  *self._local_sides)
+        if status == rk.LOCAL_OK:
+            self._loci[(float(y), float(yaw), float(roll))] = full
         if status == rk.LOCAL_NOCONV:  # SciPy's brentq raised these
             raise RuntimeError(f"Failed to converge after {rk.BRENTQ_ITER} iterations, value "
                                f"is {roll}.")
@@ -395,6 +390,7 @@ class LocusSolver:
         return hit
 
     def _solve(self, y: float, yaw: float, xtol: float, max_secant: int) -> RigidSolution:
+        self._loci.clear()
         if self.hold_roll:
             return self._held(y, yaw)
         local, nit = self._local(y, yaw, xtol, max_secant)
@@ -452,17 +448,26 @@ class LocusSolver:
                 return local
         return None
 
+    def _full(self, y: float, yaw: float, roll: float) -> tuple:
+        """:func:`~lutmpi.contact.rigid_kernels.full_locus` at this roll: both wheels' whole
+        loci, computed once per roll of the pose being solved (the local solve's check has
+        usually computed them at its root already)."""
+        key = (float(y), float(yaw), float(roll))
+        if key not in self._loci:
+            self._loci[key] = rk.full_locus(*key, *self._local_sides)
+        return self._loci[key]
+
     def _describe(self, y: float, yaw: float, roll: float, stable: bool) -> RigidRoot:
-        zl, zr = self.heights(y, yaw, roll)
-        end = any(sd.at_end(self._last_gap[name], self._last_min[name])
-                  for name, sd in self.sides.items())
+        _, gl, zl, il, _, gr, zr, ir = self._full(y, yaw, roll)
+        end = any(sd.at_end(g, i) for sd, g, i in zip(self.sides.values(), (gl, gr), (il, ir),
+                                                       strict=True))
         return RigidRoot(roll=float(roll), z_g=0.5 * (zl + zr), stable=stable, at_end=end)
 
     def _held(self, y: float, yaw: float) -> RigidSolution:
         """Roll held at zero (EN 15302 Annex E's Δr): each wheel's contact is the minimum of its
         own gap with the wheelset level; G sits at the higher of the two touching heights (the
         other wheel clears its rail by the difference, stored as its contact's gap)."""
-        zl, zr = self.heights(y, yaw, 0.0)
+        zl, zr = self._full(y, yaw, 0.0)[2::4]
         if not (np.isfinite(zl) and np.isfinite(zr)):
             return RigidSolution(y, yaw, np.nan, np.nan, False,
                                  "a wheel has no point over its rail at zero roll", 1)
@@ -479,9 +484,11 @@ class LocusSolver:
         """Contact details at the converged roll (``z_g``: given, else the mean of the two
         touching heights, which are equal at a root)."""
         R = wheelset_rotation(yaw, roll)
+        full = self._full(y, yaw, roll)
+        self._loci.clear()  # the gaps are lifted below, in place
         loci, z_side = {}, []
-        for name, sd in self.sides.items():
-            phi, gap, height = sd.locus(y, R)  # G at height 0
+        for k, (name, sd) in enumerate(self.sides.items()):
+            phi, gap, height = full[4 * k: 4 * k + 3]  # G at height 0
             loci[name] = Locus(side=sd.sign, s=sd.samp.s, phi=phi, gap=gap)
             z_side.append(height)
         if z_g is None:

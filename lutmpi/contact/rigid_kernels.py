@@ -114,14 +114,21 @@ def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ):
 
 
 @njit(cache=True)
-def locus(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
-    """The whole locus of one wheel (every sample): the locus angles ``phi`` (rad), the
-    vertical gaps (m, G at height 0, +inf where a point is not over the rail) and the touching
-    height (:func:`side_gaps`)."""
-    gap, phi = np.empty(s.size), np.empty(s.size)
-    height, _ = side_gaps(np.arange(s.size), sgn, s, r, dr, d, R, y, u0, du, tabz, u_min,
-                          u_max, gap, phi)
-    return phi, gap, height
+def full_locus(y, yaw, roll, left, right):
+    """Both wheels' whole loci (every sample) at this roll: per side the locus angles ``phi``
+    (rad), the vertical gaps (m, G at height 0, +inf where a point is not over the rail), the
+    touching height and the index of the gap minimum (:func:`side_gaps`), left then right;
+    ``left``/``right``: ``(s, r, dr, d, tabz, lim)``."""
+    R = rotation(yaw, roll)
+    s, r, dr, d, tab, lim = left
+    phl, gpl = np.empty(s.size), np.empty(s.size)
+    zl, il = side_gaps(np.arange(s.size), 1.0, s, r, dr, d, R, y, lim[0], lim[1], tab, lim[2],
+                       lim[3], gpl, phl)
+    s, r, dr, d, tab, lim = right
+    phr, gpr = np.empty(s.size), np.empty(s.size)
+    zr, ir = side_gaps(np.arange(s.size), -1.0, s, r, dr, d, R, y, lim[0], lim[1], tab, lim[2],
+                       lim[3], gpr, phr)
+    return phl, gpl, zl, il, phr, gpr, zr, ir
 
 
 @njit(cache=True)
@@ -505,15 +512,26 @@ def secant(roll0, lever, xtol, max_secant, y, yaw, left, right, idx_l, idx_r):
 
 
 @njit(cache=True)
+def _no_locus():
+    """A :func:`full_locus` result of no samples (the ``full`` of an unsuccessful
+    :func:`local_root`)."""
+    none = np.empty(0)
+    return none, none, np.nan, -1, none, none, np.nan, -1
+
+
+@njit(cache=True)
 def local_root(y, yaw, xtol, max_secant, lever, left, right):
     """The rigid root near roll 0: :func:`secant` on the samples near the gap minima, checked
     on the whole profiles (solved again, at most three times, where the minimum moved: a
-    contact jump). Returns ``(roll, calls, status)`` (:data:`LOCAL_OK` ...)."""
+    contact jump). Returns ``(roll, calls, status, full)`` (:data:`LOCAL_OK` ...) with
+    ``full`` the :func:`full_locus` of the whole profiles at ``roll`` when the status is
+    :data:`LOCAL_OK` (the check computed it; the pose's result reuses it)."""
     all_l, all_r = np.arange(left[0].size), np.arange(right[0].size)
     gl, gr = np.empty(all_l.size), np.empty(all_r.size)
     calls = 1
+    full = _no_locus()
     if not np.isfinite(h_of(y, yaw, 0.0, left, right, all_l, all_r, gl, gr)):
-        return np.nan, calls, LOCAL_NONE
+        return np.nan, calls, LOCAL_NONE, full
     roll = 0.0
     for _ in range(3):
         sub_l = candidates(gl, LOCAL_BAND, LOCAL_HALF)
@@ -522,11 +540,13 @@ def local_root(y, yaw, xtol, max_secant, lever, left, right):
                                  sub_r)
         calls += c
         if status != LOCAL_OK:
-            return roll, calls, status
+            return roll, calls, status, full
         pl, pr, _, _ = heights(y, yaw, roll, left, right, sub_l, sub_r, np.empty(sub_l.size),
                                np.empty(sub_r.size))
-        fl, fr, _, _ = heights(y, yaw, roll, left, right, all_l, all_r, gl, gr)
+        # the whole profiles' heights at the root, with their loci (kept for the result)
+        full = full_locus(y, yaw, roll, left, right)
+        gl, fl, gr, fr = full[1], full[2], full[5], full[6]
         calls += 2
         if abs(pl - fl) <= LOCAL_CHECK and abs(pr - fr) <= LOCAL_CHECK:
             break
-    return roll, calls, LOCAL_OK
+    return roll, calls, LOCAL_OK, full
