@@ -285,11 +285,26 @@ def window_slices(gap_k, phi_star, r, depth, h_circ, dphi):
 
 
 @njit(cache=True)
-def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt):
+def angle_table(dphi, half):
+    """``sin`` and ``cos`` of the wheel grid's angles ``m * dphi`` for ``m = -half ... half``
+    (index ``m + half``), computed as :func:`window_wheel_nodes` computes them (the same
+    bits: the scalar library functions, numba's SVML off; ``tests/unit/test_contact_mesh.py``)."""
+    n = 2 * half + 1
+    sin_t, cos_t = np.empty(n), np.empty(n)
+    for i in range(n):
+        phi = (i - half) * dphi
+        sin_t[i], cos_t[i] = np.sin(phi), np.cos(phi)
+    return sin_t, cos_t
+
+
+@njit(cache=True)
+def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt, sin_t, cos_t):
     """Wheel nodes of a window: slices ``ks`` with angle indices ``mc ± mh``; with ``filt``,
-    only the nodes whose vertical gap to the rail is at most ``limit`` (m). Returns (k, m, body
-    points, body normals, track points)."""
+    only the nodes whose vertical gap to the rail is at most ``limit`` (m). ``sin_t, cos_t``:
+    the :func:`angle_table` (an angle outside it is computed). Returns (k, m, body points, body
+    normals, track points)."""
     s, r, dr, d, dphi = wheel.s, wheel.r, wheel.dr, wheel.d, wheel.dphi
+    half = (sin_t.size - 1) // 2
     centre, R = pose.centre, pose.R
     u0, du, tabz, u_min, u_max = rail.tab_u0, rail.tab_du, rail.tab_z, rail.u_min, rail.u_max
     total = 0
@@ -308,8 +323,12 @@ def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt):
         inv = 1.0 / np.sqrt(1.0 + drk * drk)
         by = side * (d + s[kk])
         for mm in range(mc[q] - mh[q], mc[q] + mh[q] + 1):
-            phi = mm * dphi
-            sp, cp = np.sin(phi), np.cos(phi)
+            it = mm + half
+            if 0 <= it < sin_t.size:
+                sp, cp = sin_t[it], cos_t[it]
+            else:
+                phi = mm * dphi
+                sp, cp = np.sin(phi), np.cos(phi)
             bx, bz = rk * sp, -rk * cp
             tx = centre[0] + R[0, 0] * bx + R[0, 1] * by + R[0, 2] * bz
             ty = centre[1] + R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz

@@ -21,6 +21,7 @@ from lutmpi.contact.kernels import (
     RailArrays,
     WheelArrays,
     WindowArrays,
+    angle_table,
     window_rail_nodes,
     window_slices,
     window_wheel_nodes,
@@ -80,6 +81,12 @@ class WheelMesh:
         w = self.wheel
         return WheelArrays(self.s, self.r, self.dr, float(w.d), float(self.dphi), self.tab_s,
                            self.tab_dr, float(w.s_min), float(w.s_max))
+
+    @cached_property
+    def angles(self) -> tuple[np.ndarray, np.ndarray]:
+        """``sin`` and ``cos`` of the grid's angles over half a turn either way
+        (:func:`~lutmpi.contact.kernels.angle_table`): a window's nodes look them up."""
+        return angle_table(float(self.dphi), int(np.ceil(np.pi / self.dphi)))
 
     def body_points(
         self, side: float, k: np.ndarray, m: np.ndarray
@@ -211,7 +218,7 @@ def build_window(
     pose = Pose(centre, R)
     k, m, pts, nrm, tp = window_wheel_nodes(
         side, ks.astype(np.int64), mc.astype(np.int64), mh.astype(np.int64), wmesh.arrays,
-        rmesh.arrays, pose, gmin + depth, not full)
+        rmesh.arrays, pose, gmin + depth, not full, *wmesh.angles)
     if with_rail and k.size:
         rp, rn = window_rail_nodes(side, k, m, tp, wmesh.arrays, rmesh.arrays, pose, not full)
     else:

@@ -154,3 +154,39 @@ def test_walking_nearest_search_answers_as_the_bisection():
         for x, y in zip(qx, qy, strict=True):
             bi, pos = nearest_from(float(x), float(y), xs, ys, K_NEAR, pos)
             assert (bi, pos) == bisection(x, y)
+
+
+def test_window_angle_table_is_the_scalar_sine_and_cosine():
+    """A window's wheel nodes look up ``sin``/``cos`` of their angle in the mesh's
+    :func:`~lutmpi.contact.kernels.angle_table` instead of computing them: every entry is
+    the scalar library function's value to the bit (``math.sin``: the C library, as the
+    compiled scalar code calls it), and a window built with the table equals one built
+    from an empty table (every angle computed)."""
+    import math
+
+    from lutmpi.contact.kernels import Pose, window_wheel_nodes
+    from lutmpi.pose.mesh import rotation
+
+    scene = standard_scene(INC_20)
+    wm = scene.side("left").wheel_mesh
+    sin_t, cos_t = wm.angles
+    half = (sin_t.size - 1) // 2
+    assert half * wm.dphi >= math.pi
+    for i in range(0, sin_t.size, 7):
+        phi = (i - half) * wm.dphi
+        assert sin_t[i] == math.sin(phi) and cos_t[i] == math.cos(phi)
+    rigid = scene.locus.solve(4.0 * MM, 0.02)
+    R = rotation(rigid.yaw, rigid.roll)
+    pose = Pose(np.array([0.0, rigid.y, rigid.z_g]), R)
+    from lutmpi.pose.mesh import windows
+
+    win = windows(scene, rigid, get_method("load_centre"), 4e-5, False)["left"]
+    ks = np.unique(win.k)
+    mc = np.array([int(np.median(win.m[win.k == k])) for k in ks], dtype=np.int64)
+    mh = np.full(ks.size, 80, dtype=np.int64)
+    args = (1.0, ks, mc, mh, wm.arrays, scene.side("left").rail_mesh.arrays, pose, 1.0, True)
+    got = window_wheel_nodes(*args, sin_t, cos_t)
+    want = window_wheel_nodes(*args, np.empty(0), np.empty(0))
+    assert got[0].size > 100
+    for a, b in zip(got, want, strict=True):
+        assert np.array_equal(a, b)
