@@ -26,6 +26,7 @@ from scipy.interpolate import CubicSpline
 
 from lutmpi.errors import GeometryError
 from lutmpi.profiles.model import Profile
+from lutmpi.profiles.spline import fast
 
 SIDES = {"left": 1.0, "right": -1.0}
 MAX_SLOPE_DEG = 85.0  # profile parts steeper than this are never contact candidates
@@ -155,7 +156,7 @@ class PlacedRail:
         return float(min(cands))
 
     def __post_init__(self) -> None:
-        spl = CubicSpline(self.u, self.z)
+        spl = fast(CubicSpline(self.u, self.z))  # compiled, the same values
         object.__setattr__(self, "_spl", spl)
         tab_u = np.linspace(self.u[0], self.u[-1], int((self.u[-1] - self.u[0]) / 5e-6) + 2)
         object.__setattr__(self, "_tab_u", tab_u)

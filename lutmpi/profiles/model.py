@@ -28,6 +28,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline, make_smoothing_spline
 
 from lutmpi.errors import ProfileError
+from lutmpi.profiles.spline import fast
 
 Kind = Literal["wheel", "rail"]
 
@@ -93,6 +94,7 @@ class Profile:
         else:
             spl = CubicSpline(y, z, bc_type="not-a-knot")
             d1, d2 = spl.derivative(1), spl.derivative(2)
+        spl, d1, d2 = fast(spl), fast(d1), fast(d2)  # compiled, the same values
         object.__setattr__(self, "_spl", spl)
         object.__setattr__(self, "_d1", d1)
         object.__setattr__(self, "_d2", d2)

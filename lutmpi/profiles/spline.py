@@ -1,0 +1,70 @@
+"""Compiled evaluation of SciPy's piecewise cubics (``CubicSpline`` and its derivatives): the
+contact geometry of a pose evaluates a profile's spline at one or two points a dozen times, and
+SciPy's call costs ~7 µs of overhead each time, several times the arithmetic.
+
+:func:`fast` wraps a :class:`scipy.interpolate.PPoly` that extrapolates (a ``CubicSpline``,
+``spline.derivative(n)``) in :class:`FastPPoly`, which computes what SciPy's ``_ppoly.evaluate``
+computes, in its order of operations: the interval ``x[i] <= t < x[i+1]`` (the last one closed;
+the first or last interval beyond the ends), then ``sum_k c[K-1-k, i] s^k`` with the powers
+``s^k`` of ``s = t - x[i]`` built by repeated products and the terms added from the lowest
+power up. The values are SciPy's to the bit (``tests/unit/test_profiles.py`` checks them on
+every kind of point). Any other spline (a smoothing ``BSpline``) is returned as it is.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from scipy.interpolate import PPoly
+
+
+@njit(cache=True)
+def ppoly_eval(c, x, t, out):
+    """SciPy's ``PPoly`` evaluation (``dx = 0``, extrapolating) of coefficients ``c`` (K, m)
+    on breakpoints ``x`` (m + 1,) at the points ``t``, into ``out``; NaN at a NaN point."""
+    nx = x.size
+    K = c.shape[0]
+    for p in range(t.size):
+        tv = t[p]
+        if np.isnan(tv):
+            out[p] = np.nan
+            continue
+        i = np.searchsorted(x, tv, side="right") - 1
+        i = min(max(i, 0), nx - 2)
+        s = tv - x[i]
+        res = 0.0
+        z = 1.0
+        for kp in range(K):
+            res = res + c[K - kp - 1, i] * z
+            if kp < K - 1:
+                z *= s
+        out[p] = res
+    return out
+
+
+class FastPPoly:
+    """A 1-D extrapolating :class:`~scipy.interpolate.PPoly`, evaluated compiled; called like
+    it (``f(t)``: an array of ``t``'s shape, 0-d for a scalar)."""
+
+    def __init__(self, pp: PPoly):
+        self.pp = pp
+        self.c = np.ascontiguousarray(pp.c, dtype=float)
+        self.x = np.ascontiguousarray(pp.x, dtype=float)
+
+    def __call__(self, t) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        flat = np.ascontiguousarray(t.ravel())
+        return ppoly_eval(self.c, self.x, flat, np.empty(flat.size)).reshape(t.shape)
+
+    def derivative(self, nu: int = 1) -> FastPPoly:
+        return FastPPoly(self.pp.derivative(nu))
+
+
+def fast(spline):
+    """``spline`` evaluated compiled where it is a 1-D extrapolating ``PPoly`` with increasing
+    breakpoints (a ``CubicSpline`` and its derivatives); any other spline as it is."""
+    if (isinstance(spline, PPoly) and spline.extrapolate is True and spline.c.ndim == 2
+            and spline.x.size >= 2 and np.all(np.diff(spline.x) > 0)
+            and np.isrealobj(spline.c)):
+        return FastPPoly(spline)
+    return spline
