@@ -85,7 +85,7 @@ def _parabolic_min(g: np.ndarray, i: int) -> tuple[float, float]:
     den = gm - 2.0 * g0 + gp
     if den <= 0:
         return 0.0, float(g0)
-    t = float(np.clip(0.5 * (gm - gp) / den, -0.5, 0.5))
+    t = min(max(float(0.5 * (gm - gp) / den), -0.5), 0.5)
     return t, float(g0 - 0.25 * (gm - gp) * t)
 
 
@@ -104,19 +104,10 @@ def local_minima(gap: np.ndarray) -> np.ndarray:
 
 def contact_minima(gap: np.ndarray, double_tol: float, max_contacts: int = 2) -> list[int]:
     """Sample indices of the contact(s): the global minimum, plus a second local minimum whose
-    gap is within ``double_tol`` of it and that is separated from it by a gap maximum."""
-    mins = local_minima(gap)
-    if mins.size == 0:
-        return []
-    order = mins[np.argsort(gap[mins])]
-    chosen = [int(order[0])]
-    g0 = gap[order[0]]
-    for i in order[1:]:
-        if len(chosen) >= max_contacts or gap[i] - g0 > double_tol:
-            break
-        if all(np.max(gap[min(i, j) : max(i, j) + 1]) > gap[i] + 1e-7 for j in chosen):
-            chosen.append(int(i))
-    return chosen
+    gap is within ``double_tol`` of it and that is separated from it by a gap maximum (compiled:
+    :func:`lutmpi.contact.rigid_kernels.contact_minima`)."""
+    return [int(i) for i in rk.contact_minima(np.asarray(gap, dtype=float), float(double_tol),
+                                              int(max_contacts))]
 
 
 @dataclass

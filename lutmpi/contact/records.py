@@ -55,7 +55,7 @@ def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
     u_r = side * rp[:, 1]
     rad, dr, cw = wheel.contact_geometry(s)
     v = rail.profile_coordinate(u_r, rp[:, 2])
-    cr = rail.convex_curvature(np.clip(u_r, rail.u_min, rail.u_max))
+    cr = rail.convex_curvature(np.minimum(np.maximum(u_r, rail.u_min), rail.u_max))
     out = []
     for i, (sg, wp, rpi, n, C, si, kc) in enumerate(rows):
         r, d = float(rad[i]), float(dr[i])

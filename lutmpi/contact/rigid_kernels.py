@@ -132,6 +132,61 @@ def full_locus(y, yaw, roll, left, right):
 
 
 @njit(cache=True)
+def contact_minima(gap, double_tol, max_contacts):
+    """Sample indices of the contact(s) of one wheel's locus gaps ``gap`` (m): the global
+    minimum, then each further discrete local minimum (by increasing gap, ties by index) whose
+    gap is within ``double_tol`` of it and that is separated from every chosen one by a gap
+    maximum 0.1 µm above it, at most ``max_contacts`` in all. A local minimum is a finite
+    sample below its left neighbour and not above its right one, or an end sample below its
+    neighbour (non-finite gaps count as +inf)."""
+    n = gap.size
+    mins = np.empty(n, dtype=np.int64)
+    nm = 0
+    if n >= 2 and np.isfinite(gap[0]) and gap[0] < (gap[1] if np.isfinite(gap[1]) else np.inf):
+        mins[nm] = 0
+        nm += 1
+    for i in range(1, n - 1):
+        gi = gap[i] if np.isfinite(gap[i]) else np.inf
+        gm = gap[i - 1] if np.isfinite(gap[i - 1]) else np.inf
+        gp = gap[i + 1] if np.isfinite(gap[i + 1]) else np.inf
+        if gi < gm and gi <= gp:
+            mins[nm] = i
+            nm += 1
+    if n >= 2 and np.isfinite(gap[n - 1]) and gap[n - 1] < (
+            gap[n - 2] if np.isfinite(gap[n - 2]) else np.inf):
+        mins[nm] = n - 1
+        nm += 1
+    out = np.empty(max(min(max_contacts, nm), 0), dtype=np.int64)
+    if nm == 0 or out.size == 0:
+        return out[:0]
+    mins = mins[:nm]
+    order = mins[np.argsort(gap[mins], kind="mergesort")]
+    out[0] = order[0]
+    k = 1
+    g0 = gap[order[0]]
+    for q in range(1, nm):
+        i = order[q]
+        if k >= max_contacts or gap[i] - g0 > double_tol:
+            break
+        ok = True
+        for c in range(k):
+            j = out[c]
+            top, nan = -np.inf, False
+            for t in range(min(i, j), max(i, j) + 1):
+                if np.isnan(gap[t]):
+                    nan = True
+                elif gap[t] > top:
+                    top = gap[t]
+            if nan or not top > gap[i] + 1e-7:
+                ok = False
+                break
+        if ok:
+            out[k] = i
+            k += 1
+    return out[:k]
+
+
+@njit(cache=True)
 def scan_side(sgn, side, R, y, gap, fine, U, PZ):
     """Touching height of one wheel from its coarse samples, refined on every sample within one
     coarse step of each coarse local minimum less than :data:`SCAN_BAND` above the smallest and

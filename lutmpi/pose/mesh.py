@@ -41,7 +41,7 @@ def flange_factor(scene, name: str, s: float) -> float:
 def _rigid_angle(scene, name: str, c) -> float:
     """Contact angle of a rigid (locus) contact from the rail slope at its lateral position."""
     rail = scene.side(name).rail
-    u = float(np.clip(c.u, rail.u_min, rail.u_max))
+    u = min(max(float(c.u), rail.u_min), rail.u_max)
     return float(np.arctan(rail.slope(u)))
 
 

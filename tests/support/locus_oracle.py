@@ -115,3 +115,21 @@ def brackets_from_points(x: np.ndarray, h: np.ndarray, extra: list[tuple[float, 
             if not np.any(~np.isfinite(h[inside])):
                 out.append((xa, xb, bool(fa > 0)))
     return out
+
+
+def contact_minima(gap: np.ndarray, double_tol: float, max_contacts: int = 2) -> list[int]:
+    """The contact minima of one wheel's locus gaps as :mod:`lutmpi.contact.locus` chose them in
+    numpy before they were compiled (issue 14; the sort made stable: ties by index): the oracle
+    of :func:`lutmpi.contact.rigid_kernels.contact_minima`."""
+    mins = local_minima(gap)
+    if mins.size == 0:
+        return []
+    order = mins[np.argsort(gap[mins], kind="stable")]
+    chosen = [int(order[0])]
+    g0 = gap[order[0]]
+    for i in order[1:]:
+        if len(chosen) >= max_contacts or gap[i] - g0 > double_tol:
+            break
+        if all(np.max(gap[min(i, j) : max(i, j) + 1]) > gap[i] + 1e-7 for j in chosen):
+            chosen.append(int(i))
+    return chosen

@@ -374,3 +374,31 @@ def test_measured_pairs_fine_y(rail):
         if b:
             bad[wf] = b
     assert bad == {}
+
+
+def test_compiled_contact_minima_equal_the_numpy_ones(thinned_scene):
+    # the contact minima of a locus are chosen compiled (issue 14); the numpy selection they
+    # replaced is the oracle: on real loci (single and double contacts), on random gaps with
+    # +inf runs, NaN, ties and plateaus, and at every double-contact tolerance and count
+    from lutmpi.contact.locus import contact_minima
+    from tests.support.locus_oracle import contact_minima as oracle
+
+    rng = np.random.default_rng(5)
+    gaps = []
+    for y in np.linspace(-9.0, 9.0, 13) * MM:
+        rig = thinned_scene.locus.solve(y, 0.01)
+        gaps += [loc.gap for loc in rig.loci.values()]
+    for _ in range(300):
+        n = int(rng.integers(2, 60))
+        g = np.round(rng.normal(0, 1e-4, n), int(rng.integers(5, 9)))  # ties
+        g[rng.random(n) < 0.15] = np.inf
+        if rng.random() < 0.1:
+            g[rng.integers(n)] = np.nan
+        gaps.append(g)
+    doubles = 0
+    for g in gaps:
+        for tol, count in ((1e-5, 2), (1e-3, 2), (1.0, 3), (1.0, 1), (0.0, 2)):
+            got = contact_minima(g, tol, count)
+            assert got == oracle(g, tol, count), (g, tol, count)
+            doubles += len(got) > 1
+    assert doubles > 100  # second contacts were chosen: the separation rule was exercised
