@@ -148,6 +148,7 @@ class Equilibrium:
         nz_min: float = 1.0,
         nit: int = 0,
         deadline: float = math.inf,
+        fast=None,
     ):
         self.evaluate, self.y, self.yaw = evaluate, y, yaw
         self.q0 = np.asarray(q0, dtype=float)
@@ -160,6 +161,9 @@ class Equilibrium:
         self.fmin = fmin
         self.rate = rate  # the method's indentation rate: where the first guess starts
         self.nz_min = nz_min  # smallest vertical normal component of the rigid contacts
+        # a compiled twin of :meth:`newton` for this evaluation (``fast.newton(self, q, kc,
+        # max_iter)``, e.g. :class:`lutmpi.pose.newton.CompiledNewton`), or None
+        self.fast = fast
 
     # -- residual and Jacobian -------------------------------------------------------------
     def residual(self, q: np.ndarray, kc: float) -> tuple[np.ndarray, np.ndarray, dict]:
@@ -220,7 +224,15 @@ class Equilibrium:
 
     # -- solvers at fixed k_c ----------------------------------------------------------------
     def newton(self, q: np.ndarray, kc: float, max_iter: int = 15):
-        """Damped Newton; returns (q, converged, residual, contacts)."""
+        """Damped Newton; returns (q, converged, residual, contacts). Runs the compiled twin
+        (``fast``) where there is one: the same iteration, the same results."""
+        if self.fast is not None:
+            return self.fast.newton(self, q, kc, max_iter)
+        return self.newton_python(q, kc, max_iter)
+
+    def newton_python(self, q: np.ndarray, kc: float, max_iter: int = 15):
+        """:meth:`newton` in Python on ``evaluate`` (any contact evaluation; the compiled
+        twin's oracle)."""
         R, J, cs = self.residual(q, kc)
         for _ in range(max_iter):
             f0 = float(np.sum(self.scaled(R) ** 2))

@@ -16,6 +16,7 @@ from lutmpi.contact.records import SIDE_SIGN, contact_records
 from lutmpi.contact.stiffness import flange_kc_scale
 from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET, WINDOW, PoseResult
 from lutmpi.equilibrium.solver import ContactForce, Equilibrium
+from lutmpi.pose.newton import CompiledNewton
 
 
 def rotation(yaw: float, roll: float) -> np.ndarray:
@@ -63,11 +64,14 @@ def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> di
     return out
 
 
-def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResult:
+def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool,
+                    compiled: bool = True) -> PoseResult:
     """The pose result of mesh method ``method`` from the rigid contact ``rigid``.
 
     The equilibrium's budgets hold for the whole pose: a window widened and solved again continues
-    the evaluation count and keeps the deadline (``eq.max_pose_time`` from here)."""
+    the evaluation count and keeps the deadline (``eq.max_pose_time`` from here). ``compiled``:
+    the Newton iteration runs compiled (:mod:`lutmpi.pose.newton`) where it supports the method;
+    False runs it in Python (the same results: its oracle)."""
     eq = scene.equilibrium
     deadline = time.perf_counter() + eq.max_pose_time
     nit = 0
@@ -104,6 +108,8 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool) -> PoseResu
             nz_min=n_z,
             nit=nit,
             deadline=deadline,
+            fast=(CompiledNewton(scene, wins, method, rigid)
+                  if compiled and CompiledNewton.supports(scene, method) else None),
         )
         out = solver.solve()
         nit = out.nit
