@@ -55,6 +55,7 @@ T_PARITY = "tests/unit/test_table_parity.py"
 T_PART = "tests/unit/test_table_partition.py"
 T_SCHEMA = "tests/unit/test_table_schema.py"
 T_INTERP = "tests/unit/test_interp_nearest.py"
+T_NEWTON = "tests/unit/test_pose_newton.py"
 T_BATCH = ("tests/integration/test_real_solver_parity.py::"
            "test_static_split_with_multi_point_batches_equals_serial")
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
@@ -118,28 +119,32 @@ MUTATIONS: tuple[Mutation, ...] = (
       "chi=paper_flange_chi() if f.enabled else 1.0", "chi=0.5 if f.enabled else 1.0",
       (T_STORED, T_STIFF), "χ = 0.5 instead of the paper's 0.082"),
     M("flange_interp_reversed", "flange stiffness", "lutmpi/contact/stiffness.py",
-      "[r_base, r_tip], [1.0, chi])", "[r_base, r_tip], [chi, 1.0])", (T_STORED, T_STIFF),
+      "np.array([1.0, chi])", "np.array([chi, 1.0])", (T_STORED, T_STIFF),
       "flange factor χ at the base and 1 at the tip"),
-    M("flange_side", "flange stiffness", "lutmpi/pose/mesh.py",
-      "    if not st.flange or s >= 0.0:", "    if not st.flange or s >= -0.03:",
+    M("flange_side", "flange stiffness", "lutmpi/contact/stiffness.py",
+      "    if not flange or s >= 0.0:", "    if not flange or s >= -0.03:",
       (T_STORED, T_STIFF), "flange factor only beyond s = -30 mm"),
     M("series_sum", "flange stiffness", "lutmpi/contact/stiffness.py",
       "    out = k1 * k2 / (k1 + k2)", "    out = k1 + k2", (T_STORED, T_STIFF),
       "Hertz and cantilever stiffness added instead of in series"),
     # -- equilibrium terms (eq. 1, eq. 8) -------------------------------------------------------
     M("spring_z_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
-      "        rz = -o.load - o.k_el * (q[0] - self.q0[0])", "        rz = -o.load",
+      "    rz = -load - k_el * (q[0] - q0[0])", "    rz = -load",
       (T_EQ, T_STORED, T_CLOSED), "the fictitious vertical spring term dropped"),
     M("yaw_lever_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
       "wx, wy, wz = w1 * pz, -w0 * pz, w0 * py - w1 * px",
       "wx, wy, wz = w1 * pz, -w0 * pz, w0 * py", (T_EQ, T_STORED, T_CLOSED),
       "the yaw term of the roll lever arm dropped"),
     M("roll_uses_lateral", "equilibrium", "lutmpi/equilibrium/solver.py",
-      "                a0, a1 = nz, nz * wz ", "                a0, a1 = nz, ny * wz ",
+      "        a0, a1 = nz, nz * wz ", "        a0, a1 = nz, ny * wz ",
       (T_EQ, T_STORED, T_CLOSED), "roll balance with the lateral instead of the vertical force"),
     M("force_factor_dropped", "equilibrium", "lutmpi/equilibrium/solver.py",
-      "                k = kc * c.factor\n", "                k = kc\n", (T_EQ, T_STORED, T_CLOSED),
+      "        k = kc * fac[i]\n", "        k = kc\n", (T_EQ, T_STORED, T_CLOSED),
       "eq. (8): the flange factor left out of the equilibrium forces"),
+    M("newton_keeps_smallest", "equilibrium", "lutmpi/pose/newton.py",
+      "        while b >= 0 and buf[idx[b], 9] < buf[v, 9]:",
+      "        while b >= 0 and buf[idx[b], 9] > buf[v, 9]:", (T_NEWTON, T_STORED),
+      "compiled Newton: the contacts of a wheel kept smallest indentation first"),
     M("x_g_sign", "equilibrium", "lutmpi/pose/mesh.py",
       "res.x_g = float(-F[0] / eq.k_el)", "res.x_g = float(F[0] / eq.k_el)", (T_STORED,),
       "eq. (1): x_g with the wrong sign"),

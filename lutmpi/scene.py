@@ -55,10 +55,6 @@ class SideScene:
     flange_tip_radius: float
     samp: LocusSampling
 
-    def flange_radius(self, s: float) -> float:
-        """Wheel radius at profile coordinate ``s`` from the locus samples, m."""
-        return float(np.interp(s, self.samp.s, self.samp.r))
-
 
 @dataclass(frozen=True, eq=False)
 class Scene:

@@ -46,6 +46,7 @@ The paper's numbers (eq. 13, Table 1)
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk, elliprd, elliprf
@@ -57,8 +58,11 @@ __all__ = [
     "admissible_indentation",
     "axis_ratio_from_curvatures",
     "cantilever_stiffness",
+    "check_flange",
     "contact_modulus",
+    "flange_factor_at",
     "flange_kc_scale",
+    "flange_scale",
     "hertz_ellipse",
     "hertz_geometry",
     "hertz_stiffness_eq11",
@@ -324,9 +328,44 @@ def flange_kc_scale(
     ndarray or float
         1 for r ≤ r_base, χ for r ≥ r_tip, linear in r in between.
     """
+    check_flange(r_base, r_tip, chi)
+    r = np.asarray(r_contact, float)
+    out = _flange_scales(np.ascontiguousarray(r.ravel()), float(r_base), float(r_tip),
+                         float(chi)).reshape(r.shape)
+    return float(out) if np.ndim(out) == 0 else out
+
+
+def check_flange(r_base: float, r_tip: float, chi: float) -> None:
+    """Raise ``ValueError`` unless the flange radii and ratio make a §4.5 factor: ``r_tip >
+    r_base`` (m) and ``0 < chi <= 1``."""
     if not r_tip > r_base:
         raise ValueError(f"flange_kc_scale: need r_tip > r_base, got {r_tip!r} <= {r_base!r}")
     if not 0.0 < chi <= 1.0:
         raise ValueError(f"flange_kc_scale: chi must be in (0, 1], got {chi!r}")
-    out = np.interp(np.asarray(r_contact, float), [r_base, r_tip], [1.0, chi])
-    return float(out) if np.ndim(out) == 0 else out
+
+
+@njit(cache=True)
+def flange_scale(r, r_base, r_tip, chi):
+    """§4.5: the factor on k_c at contact radius ``r`` (m): 1 up to the flange base radius
+    ``r_base``, ``chi`` from the tip radius ``r_tip`` on, linear in ``r`` between (unchecked:
+    :func:`flange_kc_scale` validates)."""
+    return np.interp(r, np.array([r_base, r_tip]), np.array([1.0, chi]))
+
+
+@njit(cache=True)
+def _flange_scales(r, r_base, r_tip, chi):
+    out = np.empty(r.size)
+    for i in range(r.size):
+        out[i] = flange_scale(r[i], r_base, r_tip, chi)
+    return out
+
+
+@njit(cache=True)
+def flange_factor_at(s, flange, samp_s, samp_r, r_base, r_tip, chi):
+    """The §4.5 factor on k_c of a contact at wheel profile coordinate ``s`` (m): 1 on the
+    tread (``s >= 0``: the flange is on the ``s < 0`` side of the tape circle) or without the
+    flange model, else :func:`flange_scale` at the wheel radius there (interpolated in the
+    wheel's samples ``samp_s``, ``samp_r``, m)."""
+    if not flange or s >= 0.0:
+        return 1.0
+    return flange_scale(np.interp(s, samp_s, samp_r), r_base, r_tip, chi)

@@ -32,6 +32,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 from scipy.optimize import brentq
 
 from lutmpi.equilibrium.result import (
@@ -92,6 +93,44 @@ class EquilibriumResult:
 
 
 Evaluate = Callable[[np.ndarray], dict[str, list[ContactForce]]]
+
+
+@njit(cache=True)
+def assemble(q, kc, y, w0, w1, q0, load, k_el, k_rot, pts, nrm, ind, fac, rate, rated):
+    """Residual ``R`` (2,), Jacobian ``J`` (2, 2) and the contacts' part of the residual (2,)
+    at ``q = (z_g, roll)`` (module docstring: eq. 1's springs, eq. 8's forces ``k_c f C n``):
+    contacts at track-frame wheel points ``pts`` (n, 3, m) with rail normals ``nrm`` (n, 3),
+    indentations ``ind`` (m), flange factors ``fac`` and indentation rates ``rate``; G at
+    ``(0, y, z_g)``, the roll axis ``(w0, w1, 0)``. ``rated=False`` (Newton's Jacobian) moves
+    the rates halfway to 1 (:meth:`Equilibrium._residual`). The Python equilibrium and the
+    compiled Newton iteration (:mod:`lutmpi.pose.newton`) both assemble here."""
+    rz = -load - k_el * (q[0] - q0[0])
+    rr = -k_rot * (q[1] - q0[1])
+    fz = fr = 0.0  # contact part of the residual
+    j00 = j01 = j10 = j11 = 0.0
+    for i in range(ind.size):
+        k = kc * fac[i]
+        px, py, pz = pts[i, 0], pts[i, 1] - y, pts[i, 2] - q[0]
+        nx, ny, nz = nrm[i, 0], nrm[i, 1], nrm[i, 2]
+        # w x rho for the roll axis w = (w0, w1, 0)
+        wx, wy, wz = w1 * pz, -w0 * pz, w0 * py - w1 * px
+        a0, a1 = nz, nz * wz                 # force directions in (R_z, R_roll)
+        b0, b1 = nz, nx * wx + ny * wy + nz * wz   # -dC/dq
+        f = k * ind[i]
+        fz += f * a0
+        fr += f * a1
+        kr = k * (rate[i] if rated else 0.5 * (1.0 + rate[i]))
+        j00 += kr * a0 * b0
+        j01 += kr * a0 * b1
+        j10 += kr * a1 * b0
+        j11 += kr * a1 * b1
+    R = np.empty(2)
+    R[0], R[1] = rz + fz, rr + fr
+    J = np.empty((2, 2))
+    J[0, 0], J[0, 1], J[1, 0], J[1, 1] = -j00 - k_el, -j01, -j10, -j11 - k_rot
+    fc = np.empty(2)
+    fc[0], fc[1] = fz, fr
+    return R, J, fc
 
 
 class BudgetExceededError(Exception):
@@ -191,33 +230,18 @@ class Equilibrium:
 
     def _assemble(self, q: np.ndarray, kc: float, contacts: dict, rated: bool):
         """Residual (2,), Jacobian (2, 2) and contact part of the residual (2,) at ``q`` from the
-        contacts evaluated there."""
+        contacts evaluated there (:func:`assemble`)."""
+        cs = [c for side in contacts.values() for c in side]
+        n = len(cs)
+        pts, nrm = np.empty((n, 3)), np.empty((n, 3))
+        ind, fac, rate = np.empty(n), np.empty(n), np.empty(n)
+        for i, c in enumerate(cs):
+            pts[i], nrm[i] = c.point, c.normal
+            ind[i], fac[i], rate[i] = c.indentation, c.factor, c.rate
         o = self.opts
-        w0, w1 = self.axis[0], self.axis[1]
-        rz = -o.load - o.k_el * (q[0] - self.q0[0])
-        rr = -o.k_rot * (q[1] - self.q0[1])
-        fz = fr = 0.0            # contact part of the residual
-        j00 = j01 = j10 = j11 = 0.0
-        for cs in contacts.values():
-            for c in cs:
-                k = kc * c.factor
-                px, py, pz = c.point[0], c.point[1] - self.y, c.point[2] - q[0]
-                nx, ny, nz = c.normal
-                # w x rho for the roll axis w = (w0, w1, 0)
-                wx, wy, wz = w1 * pz, -w0 * pz, w0 * py - w1 * px
-                a0, a1 = nz, nz * wz                 # force directions in (R_z, R_roll)
-                b0, b1 = nz, nx * wx + ny * wy + nz * wz   # -dC/dq
-                f = k * c.indentation
-                fz += f * a0
-                fr += f * a1
-                kr = k * (c.rate if rated else 0.5 * (1.0 + c.rate))
-                j00 += kr * a0 * b0
-                j01 += kr * a0 * b1
-                j10 += kr * a1 * b0
-                j11 += kr * a1 * b1
-        R = np.array([rz + fz, rr + fr])
-        J = np.array([[-j00 - o.k_el, -j01], [-j10, -j11 - o.k_rot]])
-        return R, J, np.array([fz, fr])
+        return assemble(np.asarray(q, dtype=float), float(kc), float(self.y),
+                        float(self.axis[0]), float(self.axis[1]), self.q0, float(o.load),
+                        float(o.k_el), float(o.k_rot), pts, nrm, ind, fac, rate, bool(rated))
 
     def scaled(self, R: np.ndarray) -> np.ndarray:
         return R / np.array([self.opts.load, self.opts.load * self.lever])

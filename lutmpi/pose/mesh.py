@@ -13,7 +13,7 @@ from lutmpi.contact.kernels import locus_at_slices
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.mesh import Window, build_window
 from lutmpi.contact.records import SIDE_SIGN, contact_records
-from lutmpi.contact.stiffness import flange_kc_scale
+from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET, WINDOW, PoseResult
 from lutmpi.equilibrium.solver import ContactForce, Equilibrium
 from lutmpi.pose.newton import CompiledNewton
@@ -30,13 +30,16 @@ def rotation(yaw: float, roll: float) -> np.ndarray:
 
 
 def flange_factor(scene, name: str, s: float) -> float:
-    """k_c factor of §4.5 at profile coordinate ``s`` of wheel ``name`` (1 on the tread)."""
+    """k_c factor of §4.5 at profile coordinate ``s`` of wheel ``name`` (1 on the tread):
+    :func:`~lutmpi.contact.stiffness.flange_factor_at` with the wheel's flange radii, validated
+    on the flange (:func:`~lutmpi.contact.stiffness.check_flange`)."""
     st = scene.settings
-    if not st.flange or s >= 0.0:  # the flange is on the s < 0 side of the tape circle
-        return 1.0
     sd = scene.side(name)
-    r = sd.flange_radius(s)
-    return float(flange_kc_scale(r, sd.flange_base_radius, sd.flange_tip_radius, st.chi))
+    if st.flange and s < 0.0:
+        check_flange(sd.flange_base_radius, sd.flange_tip_radius, st.chi)
+    return float(flange_factor_at(float(s), bool(st.flange), sd.samp.s, sd.samp.r,
+                                  float(sd.flange_base_radius), float(sd.flange_tip_radius),
+                                  float(st.chi)))
 
 
 def _rigid_angle(scene, name: str, c) -> float:

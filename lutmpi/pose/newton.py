@@ -27,8 +27,9 @@ from numba import njit, objmode
 from lutmpi.contact.kernels import COLUMNS, Pose
 from lutmpi.contact.methods import load_centre, max_distance, max_normal_distance
 from lutmpi.contact.methods.base import MeshContact
+from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, TIME_BUDGET
-from lutmpi.equilibrium.solver import BudgetExceededError, ContactForce
+from lutmpi.equilibrium.solver import BudgetExceededError, ContactForce, assemble
 
 #: the methods whose kernels the compiled iteration calls, by the id it dispatches on (a
 #: numba function that takes a kernel as an argument is compiled again in every process)
@@ -61,7 +62,7 @@ def _kernel(kid, win, wheel, rail, pose):
 def _side(kid, win, wheel, rail, pose, max_contacts, flange, fl, rows, facs):
     """One wheel's contacts at ``pose`` into ``rows``/``facs`` (what
     :meth:`~lutmpi.contact.methods.base.MeshMethod.contacts` keeps, and
-    :func:`lutmpi.pose.mesh.flange_factor` of each); returns their count."""
+    :func:`~lutmpi.contact.stiffness.flange_factor_at` of each); returns their count."""
     n, buf = _kernel(kid, win, wheel, rail, pose)
     idx = np.empty(n, dtype=np.int64)
     m = 0
@@ -80,12 +81,7 @@ def _side(kid, win, wheel, rail, pose, max_contacts, flange, fl, rows, facs):
     samp_s, samp_r, r_base, r_tip, chi = fl
     for c in range(m):
         rows[c, :] = buf[idx[c], :]
-        s = buf[idx[c], 10]
-        if not flange or s >= 0.0:
-            facs[c] = 1.0
-        else:  # §4.5: k_c factor from the radius at the contact
-            r = np.interp(s, samp_s, samp_r)
-            facs[c] = np.interp(r, np.array([r_base, r_tip]), np.array([1.0, chi]))
+        facs[c] = flange_factor_at(buf[idx[c], 10], flange, samp_s, samp_r, r_base, r_tip, chi)
     return m
 
 
@@ -101,31 +97,21 @@ def _evaluate(t, q, kc, ctx, state, rated):
                          rows[t, 0], facs[t, 0])
     counts[t, 1] = _side(kid, right[0], right[1], right[2], pose, max_contacts, flange, fl_r,
                          rows[t, 1], facs[t, 1])
-    # eq. (1), eq. (8): Equilibrium._assemble, term for term
-    rz = -load - k_el * (q[0] - q0[0])
-    rr = -k_rot * (q[1] - q0[1])
-    fz = fr = 0.0
-    j00 = j01 = j10 = j11 = 0.0
+    # eq. (1), eq. (8): the contacts of both wheels, left first, into the shared assembly
+    n = counts[t, 0] + counts[t, 1]
+    pts, nrm = np.empty((n, 3)), np.empty((n, 3))
+    ind, fac, rates = np.empty(n), np.empty(n), np.full(n, rate)
+    i = 0
     for sd in range(2):
         for c in range(counts[t, sd]):
             row = rows[t, sd, c]
-            k = kc * facs[t, sd, c]
-            px, py, pz = row[0], row[1] - y, row[2] - q[0]
-            nx, ny, nz = -row[6], -row[7], -row[8]
-            wx, wy, wz = w1 * pz, -w0 * pz, w0 * py - w1 * px
-            a0, a1 = nz, nz * wz
-            b0, b1 = nz, nx * wx + ny * wy + nz * wz
-            f = k * row[9]
-            fz += f * a0
-            fr += f * a1
-            kr = k * (rate if rated else 0.5 * (1.0 + rate))
-            j00 += kr * a0 * b0
-            j01 += kr * a0 * b1
-            j10 += kr * a1 * b0
-            j11 += kr * a1 * b1
-    Rs[t, 0], Rs[t, 1] = rz + fz, rr + fr
-    J = np.empty((2, 2))
-    J[0, 0], J[0, 1], J[1, 0], J[1, 1] = -j00 - k_el, -j01, -j10, -j11 - k_rot
+            pts[i, 0], pts[i, 1], pts[i, 2] = row[0], row[1], row[2]
+            nrm[i, 0], nrm[i, 1], nrm[i, 2] = -row[6], -row[7], -row[8]
+            ind[i], fac[i] = row[9], facs[t, sd, c]
+            i += 1
+    R, J, _ = assemble(q, kc, y, w0, w1, q0, load, k_el, k_rot, pts, nrm, ind, fac, rates,
+                       rated)
+    Rs[t, 0], Rs[t, 1] = R[0], R[1]
     return J
 
 
@@ -246,10 +232,15 @@ class CompiledNewton:
     def supports(scene, method) -> bool:
         """Whether the compiled iteration runs ``method`` on ``scene``: a kernel it knows, and
         flange parameters the Python factor accepts (else that path raises its error)."""
-        st = scene.settings
-        ok = method.name in KERNEL_IDS and 0.0 < st.chi <= 1.0
-        return ok and all(scene.side(n).flange_tip_radius > scene.side(n).flange_base_radius
-                          for n in ("left", "right"))
+        if method.name not in KERNEL_IDS:
+            return False
+        try:
+            for name in ("left", "right"):
+                sd = scene.side(name)
+                check_flange(sd.flange_base_radius, sd.flange_tip_radius, scene.settings.chi)
+        except ValueError:
+            return False
+        return True
 
     def newton(self, solver, q: np.ndarray, kc: float, max_iter: int):
         """:meth:`Equilibrium.newton` of ``solver`` (its counts, budgets and last evaluation
