@@ -36,7 +36,11 @@ class ContactResult:
 def contact_records(scene, rows: list[tuple]) -> list[ContactResult]:
     """The stored record of several contacts (one spline evaluation per quantity and side for
     all of them): ``rows`` of ``(side, wheel_point, rail_point,
-    normal, C, s, kc)``; each side's own wheel and rail (``scene.side(name)``)."""
+    normal, C, s, kc)``; each side's own wheel and rail (``scene.side(name)``; a scene whose
+    sides share one wheel and one rail evaluates them for all rows at once)."""
+    left, right = scene.side("left"), scene.side("right")
+    if rows and left.wheel is right.wheel and left.rail is right.rail:
+        return _side_records(left, rows)  # one wheel and rail, mirrored: one call for all
     out: list[ContactResult | None] = [None] * len(rows)
     for name, sign in SIDE_SIGN.items():
         idx = [i for i, r in enumerate(rows) if r[0] == sign]
