@@ -114,6 +114,6 @@ print(f"[setup] ok: h5py {h5py.__version__} (mpi, HDF5 {h5py.version.hdf5_versio
       f"mpi4py {mpi4py.__version__}, python {sys.version.split()[0]}")
 EOF
 
-# --- 7. Compiled kernels ready: numba's on-disk cache filled now (~15-30 s on a cold cache, under
-# a second when warm), so a first build does not compile ----------------------------------------
+# --- 7. Compiled kernels ready: numba's on-disk cache (.numba_cache/, keyed on the sources) filled
+# now (~35 s on a cold cache on 2 cores, a second when warm), so a first build does not compile
 "$VPY" -m lutmpi.warmup || die "compiling the numba kernels failed (see above)"
