@@ -133,6 +133,34 @@ def assemble(q, kc, y, w0, w1, q0, load, k_el, k_rot, pts, nrm, ind, fac, rate, 
     return R, J, fc
 
 
+@njit(cache=True)
+def step_cap(kc, load, fmin):
+    """Largest Newton step (m; rad x lever): tens of penetration depths at stiffness ``kc``
+    (N/m) under the load ``load`` (N), the softest flange factor ``fmin`` (a steep flange
+    contact is soft vertically: ~n_z^2 = 0.1 of its normal stiffness)."""
+    return 30.0 * load / (kc * fmin) + 1e-6
+
+
+@njit(cache=True)
+def qtol(kc, load, qtol_opt):
+    """Pose tolerance (m): ``qtol_opt``, or 1/1000 of the penetration ``load / kc`` when the
+    contact is stiffer than that (k_c/k_el up to 1e8 puts the equilibrium within 1e-10 m of
+    first contact)."""
+    q = 1e-3 * load / kc
+    return q if q < qtol_opt else qtol_opt
+
+
+@njit(cache=True)
+def noise_tol(kc, load, qtol_opt, allowed):
+    """Pose resolution accepted where the mesh indentation jumps (m): 5 % of the allowed
+    indentation ``allowed`` (well below the mesh's own error) and a quarter of the
+    penetration, at least :func:`qtol`."""
+    q = qtol(kc, load, qtol_opt)
+    a, b = 0.05 * allowed, 0.25 * load / kc
+    n = b if b < a else a
+    return n if n > q else q
+
+
 class BudgetExceededError(Exception):
     """Raised inside a solve when the iteration or wall-time budget runs out;
     :meth:`Equilibrium.solve` turns it into a result with status ``MAX_ITER`` or
@@ -291,21 +319,16 @@ class Equilibrium:
         return q, False, R, cs
 
     def step_cap(self, kc: float) -> float:
-        """Largest Newton step (m; rad x lever): tens of penetration depths at this k_c (a
-        steep flange contact is soft vertically: ~n_z^2 = 0.1 of its normal stiffness)."""
-        return 30.0 * self.opts.load / (kc * self.fmin) + 1e-6
+        """Largest Newton step (m; rad x lever): :func:`step_cap`."""
+        return step_cap(kc, self.opts.load, self.fmin)
 
     def qtol(self, kc: float) -> float:
-        """Pose tolerance (m): ``opts.qtol``, or 1/1000 of the penetration ``W / k_c`` when the
-        contact is stiffer than that (k_c/k_el up to 1e8 puts the equilibrium within 1e-10 m
-        of first contact)."""
-        return min(self.opts.qtol, 1e-3 * self.opts.load / kc)
+        """Pose tolerance (m): :func:`qtol`."""
+        return qtol(kc, self.opts.load, self.opts.qtol)
 
     def noise_tol(self, kc: float) -> float:
-        """Pose resolution accepted where the mesh indentation jumps (m): 5 % of the allowed
-        indentation (well below the mesh's own error), and a quarter of the penetration."""
-        return max(self.qtol(kc), min(0.05 * self.opts.allowed_indentation,
-                                      0.25 * self.opts.load / kc))
+        """Pose resolution accepted where the mesh indentation jumps (m): :func:`noise_tol`."""
+        return noise_tol(kc, self.opts.load, self.opts.qtol, self.opts.allowed_indentation)
 
     def _small(self, dq: np.ndarray, tol: float) -> bool:
         return abs(dq[0]) <= tol and abs(dq[1]) * self.lever <= tol

@@ -29,7 +29,13 @@ from lutmpi.contact.methods import load_centre, max_distance, max_normal_distanc
 from lutmpi.contact.methods.base import MeshContact
 from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, TIME_BUDGET
-from lutmpi.equilibrium.solver import BudgetExceededError, ContactForce, assemble
+from lutmpi.equilibrium.solver import (
+    BudgetExceededError,
+    ContactForce,
+    assemble,
+    noise_tol,
+    step_cap,
+)
 
 #: the methods whose kernels the compiled iteration calls, by the id it dispatches on (a
 #: numba function that takes a kernel as an argument is compiled again in every process)
@@ -134,13 +140,6 @@ def _f(R, load, lever):
 
 
 @njit(cache=True)
-def _noise_tol(kc, load, qtol, allowed):
-    q = min(qtol, 1e-3 * load / kc)
-    n = min(0.05 * allowed, 0.25 * load / kc)
-    return n if n > q else q
-
-
-@njit(cache=True)
 def _small(dq, tol, lever):
     return abs(dq[0]) <= tol and abs(dq[1]) * lever <= tol
 
@@ -151,7 +150,7 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
     last)``: the result's state ``cur`` (its pose, residual and contacts), the state evaluated
     last, and the budget status (0, :data:`MAX_ITER`, :data:`TIME_BUDGET`)."""
     load, lever, rtol, fmin = ctx[6], ctx[16], ctx[17], ctx[18]
-    qtol, allowed = ctx[19], ctx[20]
+    qtol_opt, allowed = ctx[19], ctx[20]
     Rs = state[1]
     cur, last = 0, -1
     status = _budget(nit, max_evals, deadline)
@@ -171,7 +170,7 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
             dq = -np.linalg.solve(J, R)
         except Exception:  # noqa: BLE001 - numba raises LinAlgError, as numpy
             return False, 0, nit, cur, last
-        cap = 30.0 * load / (kc * fmin) + 1e-6  # Equilibrium.step_cap
+        cap = step_cap(kc, load, fmin)
         scale = abs(dq[0]) / cap
         b = abs(dq[1]) * lever / cap
         if b > scale:
@@ -179,7 +178,7 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
         if 1.0 > scale:
             scale = 1.0
         dq = dq / scale
-        noise = _noise_tol(kc, load, qtol, allowed)
+        noise = noise_tol(kc, load, qtol_opt, allowed)
         if _small(dq, 0.2 * noise, lever):
             return True, 0, nit, cur, last
         trial = 1 - cur
