@@ -134,6 +134,17 @@ def _budget(nit, max_evals, deadline):
 
 
 @njit(cache=True)
+def _counted(t, q, kc, ctx, state, nit, max_evals, deadline):
+    """:func:`_evaluate` into state ``t`` when the budgets allow one more evaluation (the count
+    and the deadline checked first, as :meth:`Equilibrium._residual` does); returns
+    ``(status, nit, J)``, ``J`` unset when a budget ran out."""
+    status = _budget(nit, max_evals, deadline)
+    if status:
+        return status, nit, np.empty((2, 2))
+    return 0, nit + 1, _evaluate(t, q, kc, ctx, state, False)
+
+
+@njit(cache=True)
 def _f(R, load, lever):
     s0, s1 = R[0] / load, R[1] / (load * lever)
     return s0 * s0 + s1 * s1
@@ -153,11 +164,9 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
     qtol_opt, allowed = ctx[19], ctx[20]
     Rs = state[1]
     cur, last = 0, -1
-    status = _budget(nit, max_evals, deadline)
+    status, nit, J = _counted(cur, q, kc, ctx, state, nit, max_evals, deadline)
     if status:
         return False, status, nit, cur, last
-    nit += 1
-    J = _evaluate(cur, q, kc, ctx, state, False)
     last = cur
     for _ in range(max_iter):
         R = Rs[cur]
@@ -185,11 +194,9 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
         lam = 1.0
         while True:
             qn = q + lam * dq
-            status = _budget(nit, max_evals, deadline)
+            status, nit, Jn = _counted(trial, qn, kc, ctx, state, nit, max_evals, deadline)
             if status:
                 return False, status, nit, cur, last
-            nit += 1
-            Jn = _evaluate(trial, qn, kc, ctx, state, False)
             last = trial
             if _f(Rs[trial], load, lever) < f0 or lam < 0.05:
                 break
