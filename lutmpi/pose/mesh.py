@@ -16,7 +16,7 @@ from lutmpi.contact.records import SIDE_SIGN, contact_records
 from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET, WINDOW, PoseResult
 from lutmpi.equilibrium.solver import ContactForce, Equilibrium
-from lutmpi.pose.newton import CompiledNewton
+from lutmpi.pose.newton import CompiledNewton, contact_force
 
 
 def rotation(yaw: float, roll: float) -> np.ndarray:
@@ -154,18 +154,7 @@ def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
         for name, win in wins.items():
             wm, rm = scene.side(name).wheel_mesh, scene.side(name).rail_mesh
             cs = method.contacts(win, wm, rm, centre, R, mc)
-            out[name] = [
-                ContactForce(
-                    point=c.wheel_point,
-                    normal=-c.n_wheel,
-                    indentation=c.indentation,
-                    factor=flange_factor(scene, name, c.s),
-                    data=c,
-                    nodes=c.n_wheel_nodes,
-                    rate=rate,
-                )
-                for c in cs
-            ]
+            out[name] = [contact_force(c, flange_factor(scene, name, c.s), rate) for c in cs]
         return out
 
     return evaluate

@@ -209,6 +209,13 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
     return False, 0, nit, cur, last
 
 
+def contact_force(c: MeshContact, factor: float, rate: float) -> ContactForce:
+    """What the equilibrium needs of mesh contact ``c``: its wheel point, the rail normal into
+    the wheel, its indentation, flange factor and indentation rate (``c`` passed through)."""
+    return ContactForce(point=c.wheel_point, normal=-c.n_wheel, indentation=c.indentation,
+                        factor=factor, data=c, nodes=c.n_wheel_nodes, rate=rate)
+
+
 class CompiledNewton:
     """:meth:`Equilibrium.newton` of a mesh method on its windows, compiled.
 
@@ -276,13 +283,6 @@ class CompiledNewton:
         for sd, (name, win) in enumerate(self.wins.items()):
             out[name] = []
             for c in range(counts[t, sd]):
-                row = rows[t, sd, c].copy()
-                mc = MeshContact(wheel_point=row[0:3], rail_point=row[3:6], n_wheel=row[6:9],
-                                 indentation=float(row[9]), s=float(row[10]),
-                                 u_rail=float(win.side * row[4]), n_wheel_nodes=int(row[11]),
-                                 n_rail_nodes=int(row[12]))
-                out[name].append(ContactForce(point=mc.wheel_point, normal=-mc.n_wheel,
-                                              indentation=mc.indentation,
-                                              factor=float(facs[t, sd, c]), data=mc,
-                                              nodes=mc.n_wheel_nodes, rate=self.rate))
+                mc = MeshContact.from_row(rows[t, sd, c].copy(), win.side)
+                out[name].append(contact_force(mc, float(facs[t, sd, c]), self.rate))
         return out

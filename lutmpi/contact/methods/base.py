@@ -32,6 +32,14 @@ class MeshContact:
     n_wheel_nodes: int
     n_rail_nodes: int
 
+    @classmethod
+    def from_row(cls, row: np.ndarray, side: float) -> MeshContact:
+        """The contact of one row of a kernel's buffer (:data:`~lutmpi.contact.kernels.
+        COLUMNS`) on the wheel of ``side`` (its fields are views of ``row``)."""
+        return cls(wheel_point=row[0:3], rail_point=row[3:6], n_wheel=row[6:9],
+                   indentation=float(row[9]), s=float(row[10]), u_rail=float(side * row[4]),
+                   n_wheel_nodes=int(row[11]), n_rail_nodes=int(row[12]))
+
 
 @dataclass(frozen=True)
 class ContactMethod:
@@ -89,16 +97,7 @@ class MeshMethod(ContactMethod):
         first, at most ``max_contacts``."""
         n, buf = self.kernel(win.arrays, wmesh.arrays, rmesh.arrays, Pose(centre, R))
         found = [
-            MeshContact(
-                wheel_point=row[0:3],
-                rail_point=row[3:6],
-                n_wheel=row[6:9],
-                indentation=float(row[9]),
-                s=float(row[10]),
-                u_rail=float(win.side * row[4]),
-                n_wheel_nodes=int(row[11]),
-                n_rail_nodes=int(row[12]),
-            )
+            MeshContact.from_row(row, win.side)
             for row in buf[:n]
             if row[9] > 0.0
         ]
