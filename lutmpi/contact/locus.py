@@ -474,7 +474,6 @@ class LocusSolver:
                z_g: float | None = None) -> RigidSolution:
         """Contact details at the converged roll (``z_g``: given, else the mean of the two
         touching heights, which are equal at a root)."""
-        R = wheelset_rotation(yaw, roll)
         full = self._full(y, yaw, roll)
         self._loci.clear()  # the gaps are lifted below, in place
         loci, z_side = {}, []
@@ -484,23 +483,33 @@ class LocusSolver:
             z_side.append(height)
         if z_g is None:
             z_g = 0.5 * (z_side[0] + z_side[1])
-        centre = np.array([0.0, y, z_g])
         out = RigidSolution(y, yaw, z_g, roll, True, "converged", nit)
+        # held roll: one contact per wheel, the minimum of its own gap
+        mc = 1 if self.hold_roll else self.max_contacts
         for name, loc in loci.items():
             loc.gap += z_g  # lifting G lifts every gap
             out.loci[name] = loc
+            sd = self.sides[name]
+            pp = sd.wheel.profile.ppolys
+            if pp is None:  # a smoothing spline: SciPy evaluates it
+                R, centre = wheelset_rotation(yaw, roll), np.array([0.0, y, z_g])
+                out.contacts[name] = [self._refine(sd, loc, i, centre, R)
+                                      for i in contact_minima(loc.gap, self.double_tol, mc)]
+                continue
+            rows = rk.rigid_contacts(loc.gap, loc.s, sd.sign, sd.wheel.d, sd.wheel.r0, pp,
+                                     float(y), float(yaw), float(roll), float(z_g),
+                                     float(self.double_tol), int(mc))
             out.contacts[name] = [
-                self._refine(self.sides[name], loc, i, centre, R)
-                for i in contact_minima(loc.gap, self.double_tol, self.max_contacts)
-            ]
-        if self.hold_roll:  # one contact per wheel: the minimum of its own gap
-            for name in out.contacts:
-                out.contacts[name] = out.contacts[name][:1]
+                RigidContact(side=sd.sign, s=float(r[0]), phi=float(r[1]), point=r[2:5],
+                             u=float(r[5]), gap=float(r[6]), at_end=bool(r[7]))
+                for r in rows]
         return out
 
     @staticmethod
     def _refine(sd: LocusSide, loc: Locus, i: int, centre: np.ndarray,
                 R: np.ndarray) -> RigidContact:
+        """The contact of gap minimum ``i`` (:func:`~lutmpi.contact.rigid_kernels.
+        rigid_contacts` in Python, for a profile whose spline SciPy evaluates)."""
         t, g = _parabolic_min(loc.gap, i)
         ds = loc.s[1] - loc.s[0]
         s = float(loc.s[i] + t * ds)

@@ -10,6 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
+
+from lutmpi.geometry.track import CURV_BASE
+from lutmpi.profiles.spline import ppoly_at
 
 SIDE_SIGN = {"left": 1.0, "right": -1.0}
 
@@ -56,13 +60,17 @@ def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
     side = np.array([r[0] for r in rows])
     rp = np.array([r[2] for r in rows])
     s = np.array([float(r[5]) for r in rows])
-    u_r = side * rp[:, 1]
-    rad, dr, cw = wheel.contact_geometry(s)
-    v = rail.profile_coordinate(u_r, rp[:, 2])
-    cr = rail.convex_curvature(np.minimum(np.maximum(u_r, rail.u_min), rail.u_max))
+    wpp, rpp = wheel.profile.ppolys, rail.ppolys
+    if wpp is not None and rpp is not None:
+        nrm = np.array([r[3] for r in rows])
+        geo = record_geometry(side, rp[:, 1].copy(), rp[:, 2].copy(), s, nrm[:, 1].copy(),
+                              nrm[:, 2].copy(), wpp, wheel.r0, wheel.s_min, wheel.s_max, rpp,
+                              (rail.u_min, rail.u_max, rail.gauge, rail.v_gp, rail.w_top,
+                               rail.inclination), CURV_BASE)
+    else:  # a smoothing spline: SciPy evaluates it
+        geo = _record_geometry_python(sd, side, rp, s, rows)
     out = []
-    for i, (sg, wp, rpi, n, C, si, kc) in enumerate(rows):
-        r, d = float(rad[i]), float(dr[i])
+    for (_, wp, rpi, n, C, si, kc), g in zip(rows, geo.tolist(), strict=True):
         out.append(ContactResult(
             wheel_point=np.asarray(wp, float),
             rail_point=np.asarray(rpi, float),
@@ -70,12 +78,73 @@ def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
             indentation=float(C),
             kc=float(kc),
             force=float(kc * C) if np.isfinite(kc) else float("nan"),
-            rolling_radius=r,
-            contact_angle=float(np.arctan2(-sg * n[1], n[2])),
+            rolling_radius=g[0],
+            contact_angle=g[1],
             wheel_s=float(si),
-            rail_v=float(v[i]),
-            wheel_curv_rolling=1.0 / (r * np.sqrt(1.0 + d * d)),
-            wheel_curv_transverse=float(cw[i]),
-            rail_curv_transverse=float(cr[i]),
+            rail_v=g[2],
+            wheel_curv_rolling=g[3],
+            wheel_curv_transverse=g[4],
+            rail_curv_transverse=g[5],
         ))
+    return out
+
+
+#: columns of :func:`record_geometry`'s result
+GEOMETRY_COLUMNS = ("rolling_radius", "contact_angle", "rail_v", "wheel_curv_rolling",
+                    "wheel_curv_transverse", "rail_curv_transverse")
+
+
+@njit(cache=True)
+def _chord(x, lo_b, hi_b, h, c, xs, c1, x1):
+    """:func:`lutmpi.geometry.track._chord_curvature` at one point ``x`` of a curve (spline
+    ``c, xs``, slope ``c1, x1``) defined on ``[lo_b, hi_b]``: the change of the normal's angle
+    over ``x ± h`` (clipped to the curve) over the chord, 1/m, positive where convex."""
+    lo = min(max(x - h, lo_b), hi_b)
+    hi = min(max(x + h, lo_b), hi_b)
+    a = np.arctan(ppoly_at(c1, x1, hi)) - np.arctan(ppoly_at(c1, x1, lo))
+    span = np.hypot(hi - lo, ppoly_at(c, xs, hi) - ppoly_at(c, xs, lo))
+    return -a / (span if span > 0 else np.inf)
+
+
+@njit(cache=True)
+def record_geometry(sgn, rp_y, rp_z, s, n_y, n_z, wpp, r0, s_min, s_max, rpp, rail_geo, h):
+    """The stored geometry of contacts (side signs ``sgn``; rail points' ``y, z``, m; wheel
+    profile coordinates ``s``, m; the normals' ``y, z``): per contact the columns of
+    :data:`GEOMETRY_COLUMNS`, as :meth:`~lutmpi.geometry.track.WheelGeometry.contact_geometry`,
+    :meth:`~lutmpi.geometry.track.PlacedRail.profile_coordinate` and ``convex_curvature``
+    compute them. ``wpp``, ``rpp``: ``(c, x, c1, x1)`` of the wheel profile and the placed
+    rail (their ``ppolys``); ``rail_geo``: ``(u_min, u_max, gauge, v_gp, w_top,
+    inclination)`` (m, rad); ``h``: the curvature's half base (m)."""
+    zc, zx, dc, dx = wpp
+    rc, rx, rdc, rdx = rpp
+    u_min, u_max, gauge, v_gp, w_top, incl = rail_geo
+    cd, sd = np.cos(incl), np.sin(incl)
+    out = np.empty((s.size, 6))
+    for i in range(s.size):
+        si = s[i]
+        r = r0 + ppoly_at(zc, zx, si)
+        d = ppoly_at(dc, dx, si)
+        u = sgn[i] * rp_y[i]
+        out[i, 0] = r
+        out[i, 1] = np.arctan2(-sgn[i] * n_y[i], n_z[i])
+        out[i, 2] = (u - 0.5 * gauge + v_gp) * cd + (rp_z[i] + w_top) * sd
+        out[i, 3] = 1.0 / (r * np.sqrt(1.0 + d * d))
+        out[i, 4] = _chord(si, s_min, s_max, h, zc, zx, dc, dx)
+        out[i, 5] = _chord(min(max(u, u_min), u_max), u_min, u_max, h, rc, rx, rdc, rdx)
+    return out
+
+
+def _record_geometry_python(sd, side: np.ndarray, rp: np.ndarray, s: np.ndarray,
+                            rows: list[tuple]) -> np.ndarray:
+    """:func:`record_geometry` by the geometry's own methods (a profile SciPy evaluates)."""
+    wheel, rail = sd.wheel, sd.rail
+    u_r = side * rp[:, 1]
+    rad, dr, cw = wheel.contact_geometry(s)
+    v = rail.profile_coordinate(u_r, rp[:, 2])
+    cr = rail.convex_curvature(np.minimum(np.maximum(u_r, rail.u_min), rail.u_max))
+    out = np.empty((len(rows), 6))
+    for i, row in enumerate(rows):
+        sg, n, r, d = row[0], row[3], float(rad[i]), float(dr[i])
+        out[i] = (r, float(np.arctan2(-sg * n[1], n[2])), float(v[i]),
+                  1.0 / (r * np.sqrt(1.0 + d * d)), float(cw[i]), float(cr[i]))
     return out

@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from lutmpi.profiles.spline import ppoly_at
+
 SCAN_BAND = 5e-3  # m, coarse gap minima this close to the smallest are refined on all samples
 
 
@@ -403,6 +405,65 @@ LOCAL_CHECK = 1e-12  # m, candidate and full touching heights agree to this at a
 BRENTQ_ITER = 100  # SciPy's default
 #: status of :func:`local_root`
 LOCAL_OK, LOCAL_NONE, LOCAL_NOCONV, LOCAL_NAN = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def pose_rotation(yaw, roll):
+    """:func:`lutmpi.pose.mesh.rotation` compiled: the bits of
+    :func:`lutmpi.geometry.pose.wheelset_rotation` with zero pitch, signed zeros included."""
+    cy, sy, cr, sr = np.cos(yaw), np.sin(yaw), np.cos(roll), np.sin(roll)
+    R = np.empty((3, 3))
+    R[0, 0], R[0, 1], R[0, 2] = cy, -sy * cr + 0.0, sy * sr + 0.0
+    R[1, 0], R[1, 1], R[1, 2] = sy + 0.0, cy * cr, -cy * sr + 0.0
+    R[2, 0], R[2, 1], R[2, 2] = 0.0, sr + 0.0, cr
+    return R
+
+
+@njit(cache=True)
+def rigid_contacts(gap, s, sgn, d, r0, pp, y, yaw, roll, z_g, double_tol, max_contacts):
+    """The rigid contacts of one wheel (side sign ``sgn``) at the converged pose from its
+    locus gaps ``gap`` (m, lifted to G at ``z_g``) on the samples ``s``: the gap minima of
+    :func:`contact_minima`, each refined by the parabola through its neighbours (offset within
+    half a sample), and the wheel point there on the profile ``pp`` (``(c, x, c1, x1)`` of
+    :attr:`lutmpi.profiles.model.Profile.ppolys`; radius ``r0`` + spline, m) at its locus angle.
+
+    Returns
+    -------
+    ndarray, shape (n, 8)
+        Per contact: profile coordinate ``s`` (m), locus angle ``phi`` (rad), track-frame point
+        ``x, y, z`` (m), rail coordinate ``u = sgn y`` (m), gap (m) and ``at_end`` (1.0 when the
+        minimum is a first or last usable sample, or next to one not over the rail).
+    """
+    zc, zx, dc, dx = pp
+    idx = contact_minima(gap, double_tol, max_contacts)
+    R = pose_rotation(yaw, roll)
+    centre = np.array([0.0, y, z_g])
+    a, b, c = R[0, 0], R[0, 1], R[0, 2]
+    amp = np.hypot(a, c)
+    beta = np.arctan2(c, a)
+    n = gap.size
+    ds = s[1] - s[0]
+    out = np.empty((idx.size, 8))
+    for q in range(idx.size):
+        i = idx[q]
+        t, g = 0.0, gap[i]
+        inner = 0 < i < n - 1
+        if inner and np.isfinite(gap[i - 1] + gap[i + 1]):
+            gm, g0, gp = gap[i - 1], gap[i], gap[i + 1]
+            den = gm - 2.0 * g0 + gp
+            if den > 0.0:
+                t = min(max(0.5 * (gm - gp) / den, -0.5), 0.5)
+                g = g0 - 0.25 * (gm - gp) * t
+        sv = s[i] + t * ds
+        r = r0 + ppoly_at(zc, zx, sv)
+        x = b * (sgn * ppoly_at(dc, dx, sv)) / amp
+        phi = beta + np.arcsin(min(max(x, -1.0), 1.0))
+        body = np.array([r * np.sin(phi), sgn * (d + sv), -r * np.cos(phi)])
+        p = centre + np.dot(body, R.T)
+        end = not (inner and np.isfinite(gap[i - 1]) and np.isfinite(gap[i + 1]))
+        out[q, 0], out[q, 1], out[q, 2], out[q, 3], out[q, 4] = sv, phi, p[0], p[1], p[2]
+        out[q, 5], out[q, 6], out[q, 7] = sgn * p[1], g, 1.0 if end else 0.0
+    return out
 
 
 @njit(cache=True)

@@ -26,7 +26,7 @@ from scipy.interpolate import CubicSpline
 
 from lutmpi.errors import GeometryError
 from lutmpi.profiles.model import Profile
-from lutmpi.profiles.spline import fast
+from lutmpi.profiles.spline import FastPPoly, fast
 
 SIDES = {"left": 1.0, "right": -1.0}
 MAX_SLOPE_DEG = 85.0  # profile parts steeper than this are never contact candidates
@@ -163,6 +163,14 @@ class PlacedRail:
         object.__setattr__(self, "_tab_z", spl(tab_u))
         object.__setattr__(self, "_d1", spl.derivative(1))
         object.__setattr__(self, "_d2", spl.derivative(2))
+
+    @property
+    def ppolys(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """``(c, x, c1, x1)`` of the placed rail's spline and of its slope for the compiled
+        kernels (:func:`lutmpi.profiles.spline.ppoly_at`); None if SciPy evaluates them."""
+        if isinstance(self._spl, FastPPoly) and isinstance(self._d1, FastPPoly):
+            return self._spl.c, self._spl.x, self._d1.c, self._d1.x
+        return None
 
     @property
     def u_min(self) -> float:

@@ -27,6 +27,7 @@ from numba import njit, objmode
 from lutmpi.contact.kernels import COLUMNS, Pose
 from lutmpi.contact.methods import load_centre, max_distance, max_normal_distance
 from lutmpi.contact.methods.base import MeshContact
+from lutmpi.contact.rigid_kernels import pose_rotation
 from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, TIME_BUDGET
 from lutmpi.equilibrium.solver import (
@@ -42,17 +43,6 @@ from lutmpi.equilibrium.solver import (
 KERNEL_IDS = {"max_distance": 0, "max_normal_distance": 1, "load_centre": 2}
 #: columns of a contact row (:data:`~lutmpi.contact.kernels.COLUMNS`)
 NCOL = max(c.stop if isinstance(c, slice) else c + 1 for c in COLUMNS.values())
-
-
-@njit(cache=True)
-def _rotation(yaw, roll):
-    """:func:`lutmpi.pose.mesh.rotation`, the same bits (its ``+ 0.0`` included)."""
-    cy, sy, cr, sr = np.cos(yaw), np.sin(yaw), np.cos(roll), np.sin(roll)
-    R = np.empty((3, 3))
-    R[0, 0], R[0, 1], R[0, 2] = cy, -sy * cr + 0.0, sy * sr + 0.0
-    R[1, 0], R[1, 1], R[1, 2] = sy + 0.0, cy * cr, -cy * sr + 0.0
-    R[2, 0], R[2, 1], R[2, 2] = 0.0, sr + 0.0, cr
-    return R
 
 
 @njit(cache=True)
@@ -98,7 +88,7 @@ def _evaluate(t, q, kc, ctx, state, rated):
      left, right, fl_l, fl_r, lever, rtol, fmin, qtol, allowed) = ctx
     qs, Rs, rows, facs, counts = state
     qs[t, 0], qs[t, 1] = q[0], q[1]
-    pose = Pose(np.array([0.0, y, q[0]]), _rotation(yaw, q[1]))
+    pose = Pose(np.array([0.0, y, q[0]]), pose_rotation(yaw, q[1]))
     counts[t, 0] = _side(kid, left[0], left[1], left[2], pose, max_contacts, flange, fl_l,
                          rows[t, 0], facs[t, 0])
     counts[t, 1] = _side(kid, right[0], right[1], right[2], pose, max_contacts, flange, fl_r,

@@ -28,7 +28,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline, make_smoothing_spline
 
 from lutmpi.errors import ProfileError
-from lutmpi.profiles.spline import fast
+from lutmpi.profiles.spline import FastPPoly, fast
 
 Kind = Literal["wheel", "rail"]
 
@@ -115,6 +115,15 @@ class Profile:
     def slope(self, y: np.ndarray | float) -> np.ndarray:
         """``dz/dy`` at ``y`` (dimensionless)."""
         return self._d1(y)
+
+    @property
+    def ppolys(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """Coefficients and breakpoints ``(c, x, c1, x1)`` of the spline and of its slope for
+        the compiled kernels (:func:`lutmpi.profiles.spline.ppoly_at`); None for a smoothing
+        spline, which SciPy evaluates."""
+        if isinstance(self._spl, FastPPoly) and isinstance(self._d1, FastPPoly):
+            return self._spl.c, self._spl.x, self._d1.c, self._d1.x
+        return None
 
     def second(self, y: np.ndarray | float) -> np.ndarray:
         """``d2z/dy2`` at ``y`` (1/m)."""

@@ -19,26 +19,29 @@ from scipy.interpolate import PPoly
 
 
 @njit(cache=True)
-def ppoly_eval(c, x, t, out):
+def ppoly_at(c, x, tv):
     """SciPy's ``PPoly`` evaluation (``dx = 0``, extrapolating) of coefficients ``c`` (K, m)
-    on breakpoints ``x`` (m + 1,) at the points ``t``, into ``out``; NaN at a NaN point."""
-    nx = x.size
+    on breakpoints ``x`` (m + 1,) at one point ``tv``; NaN at a NaN point."""
+    if np.isnan(tv):
+        return np.nan
     K = c.shape[0]
+    i = np.searchsorted(x, tv, side="right") - 1
+    i = min(max(i, 0), x.size - 2)
+    s = tv - x[i]
+    res = 0.0
+    z = 1.0
+    for kp in range(K):
+        res = res + c[K - kp - 1, i] * z
+        if kp < K - 1:
+            z *= s
+    return res
+
+
+@njit(cache=True)
+def ppoly_eval(c, x, t, out):
+    """:func:`ppoly_at` at each of the points ``t``, into ``out``."""
     for p in range(t.size):
-        tv = t[p]
-        if np.isnan(tv):
-            out[p] = np.nan
-            continue
-        i = np.searchsorted(x, tv, side="right") - 1
-        i = min(max(i, 0), nx - 2)
-        s = tv - x[i]
-        res = 0.0
-        z = 1.0
-        for kp in range(K):
-            res = res + c[K - kp - 1, i] * z
-            if kp < K - 1:
-                z *= s
-        out[p] = res
+        out[p] = ppoly_at(c, x, t[p])
     return out
 
 

@@ -23,7 +23,12 @@ centre's ``iterations``, the count of contact evaluations, changed: in 4 paper a
 poses, by up to 43 fewer); re-derived when a widened contact window that finds no further
 node in contact keeps the narrower window's pose instead of solving again (issue 14: again only
 ``iterations`` changed, in 26 paper and 8 Manchester poses of the mesh methods: the solve
-again had found the same pose to the bit).
+again had found the same pose to the bit); re-derived when the rigid contacts of the chosen
+root and every method's stored contact geometry came to be computed compiled (issue 14: numba's
+arcsin, arctan and arctan2 round differently from numpy's in the last bit; the largest
+differences over both full grids: 2.5e-14 rad of contact angle, 2.3e-13 1/m of curvature,
+2.2e-15 m of z_g, 2.2e-3 N/m of a k_c of up to 5.5e10 N/m; no pose moved by more than 1e-9 in any
+quantity but k_c and force, whose 1e-9 is below their last bits).
 """
 
 from __future__ import annotations

@@ -402,3 +402,34 @@ def test_compiled_contact_minima_equal_the_numpy_ones(thinned_scene):
             assert got == oracle(g, tol, count), (g, tol, count)
             doubles += len(got) > 1
     assert doubles > 100  # second contacts were chosen: the separation rule was exercised
+
+
+def test_compiled_contact_refinement_equals_the_python_one(thinned_scene):
+    # the contacts of the converged root are refined compiled (rk.rigid_contacts, issue 14);
+    # LocusSolver._refine, the path of a smoothing spline, is the oracle. numba's arcsin and
+    # arctan2 round differently from numpy's in the last bit, so the locus angle (and what
+    # depends on it) agrees to a few ulp; the discrete results (which minima, at_end) exactly
+    from lutmpi.geometry.pose import wheelset_rotation
+
+    L = thinned_scene.locus
+    seen = {"double": 0, "end": 0}
+    for y in np.linspace(-10.0, 10.0, 41) * MM:
+        for yaw in (0.0, 0.03, -0.1):
+            rig = L.solve(float(y), yaw)
+            if not rig.success:
+                continue
+            R, centre = wheelset_rotation(yaw, rig.roll), np.array([0.0, y, rig.z_g])
+            for name, loc in rig.loci.items():
+                sd = L.sides[name]
+                want = [L._refine(sd, loc, i, centre, R)
+                        for i in rk.contact_minima(loc.gap, L.double_tol, L.max_contacts)]
+                got = rig.contacts[name]
+                assert len(got) == len(want)
+                seen["double"] += len(got) > 1
+                for g, w in zip(got, want, strict=True):
+                    seen["end"] += g.at_end
+                    assert (g.side, g.at_end, g.s, g.gap) == (w.side, w.at_end, w.s, w.gap)
+                    assert g.phi == pytest.approx(w.phi, rel=0.0, abs=1e-15)
+                    assert np.allclose(g.point, w.point, rtol=0.0, atol=1e-15)
+                    assert g.u == pytest.approx(w.u, rel=0.0, abs=1e-15)
+    assert seen["double"] > 0  # double contacts were compared, not only single ones
