@@ -34,6 +34,7 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
     a, b, c = R[0, 0], R[0, 1], R[0, 2]
     amp = np.sqrt(a * a + c * c)
     beta = np.arctan2(c, a)
+    sb, cb = c / amp, a / amp  # sin(beta), cos(beta)
     nt = tabz.size
     best, ib = np.inf, -1
     for q in range(idx.size):
@@ -41,10 +42,11 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
         x = b * sgn * dr[k] / amp
         x = min(max(x, -1.0), 1.0)
         rk = r[k]
-        phi = beta + np.arcsin(x)
         if keep_phi:
-            phis[q] = phi
-        bx, by, bz = rk * np.sin(phi), sgn * (d + s[k]), -rk * np.cos(phi)
+            phis[q] = beta + np.arcsin(x)
+        # sin and cos of phi = beta + arcsin(x) by the angle-sum identity (run_gaps)
+        cx = np.sqrt(1.0 - x * x)
+        bx, by, bz = rk * (sb * cx + cb * x), sgn * (d + s[k]), -rk * (cb * cx - sb * x)
         py = R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz + y
         pz = R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz
         u = sgn * py
