@@ -134,6 +134,17 @@ def assemble(q, kc, y, w0, w1, q0, load, k_el, k_rot, pts, nrm, ind, fac, rate, 
 
 
 @njit(cache=True)
+def solve2(J, b):
+    """``(True, J^-1 b)``, or ``(False, b)`` where ``J`` is singular: numpy's
+    ``linalg.solve`` (LAPACK's ``gesv``, the same bits) without its Python overhead, which
+    on a 2 x 2 system is most of its cost."""
+    try:
+        return True, np.linalg.solve(J, b)
+    except Exception:  # noqa: BLE001 - numba raises LinAlgError, as numpy
+        return False, b
+
+
+@njit(cache=True)
 def step_cap(kc, load, fmin):
     """Largest Newton step (m; rad x lever): tens of penetration depths at stiffness ``kc``
     (N/m) under the load ``load`` (N), the softest flange factor ``fmin`` (a steep flange
@@ -484,10 +495,8 @@ class Equilibrium:
         residual: one linear solve at the converged state from its ``contacts`` (evaluated at
         ``q``), no further contact evaluation."""
         _, J, fc = self._assemble(q, kc, contacts, rated=True)
-        try:
-            return np.asarray(q) - np.linalg.solve(J, fc)
-        except np.linalg.LinAlgError:
-            return np.asarray(q)
+        ok, dq = solve2(J, fc)
+        return np.asarray(q) - dq if ok else np.asarray(q)
 
     def _result(self, q, success, status, kc, cmax, cs, R) -> EquilibriumResult:
         return EquilibriumResult(

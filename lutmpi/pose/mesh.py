@@ -163,11 +163,13 @@ def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
 def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResult:
     eq = scene.equilibrium
     z, roll = float(out.q[0]), float(out.q[1])
-    G = np.array([0.0, rigid.y, z])
+    gy, gz = float(rigid.y), z  # G of the solved pose: the contacts' lever arms
     if out.q_extrapolated is not None:
         z, roll = float(out.q_extrapolated[0]), float(out.q_extrapolated[1])
-    F = np.zeros(3)
-    M = np.zeros(3)
+    # eq. (1)'s spring loads from the contact forces, summed in Python floats (the same
+    # operations as on numpy vectors, without their per-call cost)
+    F = [0.0, 0.0, 0.0]
+    M = [0.0, 0.0, 0.0]
     rows = []
     res = PoseResult(
         y=rigid.y,
@@ -186,10 +188,15 @@ def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResu
         for cf in out.contacts.get(name, []):
             c = cf.data
             k = out.kc * cf.factor
-            f = k * cf.indentation * cf.normal
-            F += f
-            r = cf.point - G
-            M += (r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0])
+            ki = k * cf.indentation
+            f = [ki * v for v in cf.normal.tolist()]
+            px, py, pz = cf.point.tolist()
+            r = (px - 0.0, py - gy, pz - gz)
+            for j in range(3):
+                F[j] += f[j]
+            M[0] += r[1] * f[2] - r[2] * f[1]
+            M[1] += r[2] * f[0] - r[0] * f[2]
+            M[2] += r[0] * f[1] - r[1] * f[0]
             rows.append((side, c.wheel_point, c.rail_point, cf.normal, c.indentation, c.s, k))
     records = iter(contact_records(scene, rows))
     for name in SIDE_SIGN:
