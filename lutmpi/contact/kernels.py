@@ -350,6 +350,46 @@ def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt, sin_t, 
     return K[:cnt], M[:cnt], BP[:cnt], BN[:cnt], TP[:cnt]
 
 
+#: margin of :func:`_row_tangents`' bounds (tangent of the angle, ~rad here): far above the
+#: rounding of ``atan2`` and ``tan`` (~1e-16), far below a node's angular step (~1e-3 rad)
+TAN_MARGIN = 1e-9
+
+
+@njit(cache=True)
+def _row_tangents(grid, m0, dphi):
+    """Per row ``ik`` of a window's node grid: the tangents ``t_lo, t_hi`` of the angles
+    ``(m_lo - 1/2) dphi`` and ``(m_hi + 1/2) dphi`` that round to its first and last marked
+    angle index, where every index between them is marked; NaN where not (each node of the
+    row is then decided by ``atan2``); ``t_lo = +inf, t_hi = -inf`` where the row is empty.
+    A rail node at tangent ``t = c0 / -c2`` of its angle ``atan2(c0, -c2)`` (``-c2 > 0``)
+    then lies on a marked cell of the row when ``t`` is inside ``(t_lo, t_hi)`` by more than
+    :data:`TAN_MARGIN`, and on none when outside ``[t_lo, t_hi]`` by more: the same answer as
+    rounding ``atan2 / dphi``, whose library call is then needed only within the margin (or
+    at a NaN ``t``) (issue 14)."""
+    gk, gm = grid.shape
+    t_lo, t_hi = np.full(gk, np.inf), np.full(gk, -np.inf)
+    for ik in range(gk):
+        lo, hi = -1, -1
+        for im in range(gm):
+            if grid[ik, im]:
+                if lo < 0:
+                    lo = im
+                hi = im
+        if lo < 0:
+            continue
+        full = True
+        for im in range(lo, hi + 1):
+            if not grid[ik, im]:
+                full = False
+                break
+        a_lo, a_hi = (lo + m0 - 0.5) * dphi, (hi + m0 + 0.5) * dphi
+        if full and -1.4 < a_lo and a_hi < 1.4:
+            t_lo[ik], t_hi[ik] = np.tan(a_lo), np.tan(a_hi)
+        else:
+            t_lo[ik], t_hi[ik] = np.nan, np.nan
+    return t_lo, t_hi
+
+
 @njit(cache=True)
 def window_rail_nodes(side, k, m, tp, wheel, rail, pose, filt):
     """Rail nodes in the box spanned by the window's wheel nodes (two nodes of margin); with
@@ -376,6 +416,7 @@ def window_rail_nodes(side, k, m, tp, wheel, rail, pose, filt):
         for a in range(-1, 2):
             for b in range(-1, 2):
                 grid[k[i] - k0 + a, m[i] - m0 + b] = True
+    t_lo, t_hi = _row_tangents(grid, m0, dphi) if filt else (np.empty(0), np.empty(0))
     total = (l_hi - l_lo + 1) * (j_hi - j_lo + 1)
     P = np.empty((total, 3))
     N = np.zeros((total, 3))
@@ -391,10 +432,19 @@ def window_rail_nodes(side, k, m, tp, wheel, rail, pose, filt):
                 c2 = R[0, 2] * q0 + R[1, 2] * q1 + R[2, 2] * q2
                 kk, pos = nearest_from(side * c1 - d, np.sqrt(c0 * c0 + c2 * c2), ws, wr, KN,
                                        pos)
-                mm = int(np.round(np.arctan2(c0, -c2) / dphi))
-                ik, im = kk - k0, mm - m0
-                if ik < 0 or ik >= gk or im < 0 or im >= gm or not grid[ik, im]:
+                ik = kk - k0
+                if ik < 0 or ik >= gk:
                     continue
+                # the angle's node index only where the tangent cannot decide (_row_tangents)
+                tv = c0 / -c2 if c2 < 0.0 else np.nan
+                if tv > t_lo[ik] + TAN_MARGIN and tv < t_hi[ik] - TAN_MARGIN:
+                    pass  # inside the row's marked angles, all of them marked
+                elif tv < t_lo[ik] - TAN_MARGIN or tv > t_hi[ik] + TAN_MARGIN:
+                    continue  # outside them
+                else:
+                    im = int(np.round(np.arctan2(c0, -c2) / dphi)) - m0
+                    if im < 0 or im >= gm or not grid[ik, im]:
+                        continue
             P[cnt, 0], P[cnt, 1], P[cnt, 2] = px, py, pz
             N[cnt, 1], N[cnt, 2] = side * rnu[ll], rnz[ll]
             cnt += 1

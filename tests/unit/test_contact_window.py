@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from contact_fixtures import D_TAPE, MESH_METHODS, MM, standard_scene
 
+from lutmpi.contact.kernels import Pose
 from lutmpi.pose.solve import solve_pose
 
 POSES = {"tread": (2 * MM, 0.0), "flange": (9 * MM, 0.0),
@@ -80,3 +81,57 @@ def test_widened_window_keeps_the_narrow_windows_equilibrium_when_no_node_joins(
     # solved once (as many evaluations as the full mesh), then one on the widened window
     assert w.nit == f.nit + 1 and f.nit > 50
     assert (w.z_g, w.roll) == (f.z_g, f.roll)
+
+
+def _rail_nodes_by_atan2(side, k, m, tp, wm, rm, centre, R):
+    """The window's rail nodes as the kernel chose them before issue 14's tangent test: every
+    rail node of the box whose nearest wheel slice (K_NEAR either side of its sorted position)
+    and rounded ``atan2`` angle index fall on a marked cell (the window's nodes, dilated by
+    one), in numpy."""
+    from lutmpi.contact.kernels import K_NEAR
+
+    ru, rz, h_x, ws, wr = rm.u, rm.z, rm.h_x, wm.s, wm.r
+    u = side * tp[:, 1]
+    l_lo = max(np.searchsorted(ru, u.min()) - 2, 0)
+    l_hi = min(np.searchsorted(ru, u.max()) + 2, ru.size - 1)
+    j_lo, j_hi = int(np.floor(tp[:, 0].min() / h_x)) - 2, int(np.ceil(tp[:, 0].max() / h_x)) + 2
+    marked = {(int(a) + da, int(b) + db) for a, b in zip(k, m, strict=True)
+              for da in (-1, 0, 1) for db in (-1, 0, 1)}
+    ll, jj = np.meshgrid(np.arange(l_lo, l_hi + 1), np.arange(j_lo, j_hi + 1), indexing="ij")
+    P = np.column_stack([jj.ravel() * h_x, side * ru[ll.ravel()], rz[ll.ravel()]])
+    c = (P - centre) @ R  # wheelset frame (R^T (P - G)), row by row
+    x, rad = side * c[:, 1] - wm.wheel.d, np.sqrt(c[:, 0] ** 2 + c[:, 2] ** 2)
+    i0 = np.searchsorted(ws, x)
+    cand = np.clip(i0[:, None] + np.arange(-K_NEAR, K_NEAR + 1)[None, :], 0, ws.size - 1)
+    d2 = (ws[cand] - x[:, None]) ** 2 + (wr[cand] - rad[:, None]) ** 2
+    kk = cand[np.arange(x.size), np.argmin(d2, axis=1)]
+    mm = np.round(np.arctan2(c[:, 0], -c[:, 2]) / wm.dphi).astype(int)
+    keep = np.array([(int(a), int(b)) in marked for a, b in zip(kk, mm, strict=True)])
+    return P[keep]
+
+
+@pytest.mark.parametrize("pose", POSES)
+def test_window_rail_nodes_equal_the_atan2_selection(pose):
+    # the kernel decides most rail nodes by the tangent of their angle against per-row bounds
+    # (kernels._row_tangents) and calls atan2 only near a bound: the same nodes as the atan2
+    # selection, at every pose and side, over the windows of several depths
+    from lutmpi.contact.kernels import window_rail_nodes
+    from lutmpi.contact.methods import get_method
+    from lutmpi.pose.mesh import rotation, windows
+
+    scene = standard_scene()
+    y, yaw = POSES[pose]
+    rig = scene.locus.solve(y, yaw)
+    R, centre = rotation(yaw, rig.roll), np.array([0.0, y, rig.z_g])
+    checked = 0
+    for depth in (2e-5, 1e-4, 1e-3):
+        for name, win in windows(scene, rig, get_method("load_centre"), depth, False).items():
+            sd = scene.side(name)
+            wm, rm = sd.wheel_mesh, sd.rail_mesh
+            tp = win.body_pts @ R.T + centre
+            got, _ = window_rail_nodes(win.side, win.k, win.m, tp, wm.arrays, rm.arrays,
+                                       Pose(centre, R), True)
+            want = _rail_nodes_by_atan2(win.side, win.k, win.m, tp, wm, rm, centre, R)
+            assert got.shape == want.shape and np.array_equal(got, want), (name, depth)
+            checked += got.shape[0]
+    assert checked > 1000
