@@ -28,16 +28,27 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
     side, centre, R = win.side, pose.centre, pose.R
     rail_pts, rail_nrm = win.rail_pts, win.rail_nrm
     ws_, wr, wdr, d, dphi = wheel.s, wheel.r, wheel.dr, wheel.d, wheel.dphi
+    # the slices a volume takes rail nodes from, and the profile coordinates outside which a
+    # node's nearest slice (within K_NEAR of its sorted position) cannot be one of them
+    klo, khi = ws.kmin[0] - 1, ws.kmax[0] + 1
+    for h in range(1, ws.nvol):
+        klo, khi = min(klo, ws.kmin[h] - 1), max(khi, ws.kmax[h] + 1)
+    n = ws_.size
+    x_lo = ws_[klo - K_NEAR - 1] if klo - K_NEAR - 1 >= 0 else -np.inf
+    x_hi = ws_[khi + K_NEAR] if khi + K_NEAR < n else np.inf
     pos = 0
     for j in range(rail_pts.shape[0]):
         q0 = rail_pts[j, 0] - centre[0]
         q1 = rail_pts[j, 1] - centre[1]
         q2 = rail_pts[j, 2] - centre[2]
-        c0 = R[0, 0] * q0 + R[1, 0] * q1 + R[2, 0] * q2
         c1 = R[0, 1] * q0 + R[1, 1] * q1 + R[2, 1] * q2
+        x = side * c1 - d
+        if x <= x_lo or x > x_hi:
+            continue  # its nearest slice lies outside every volume's (the same as below)
+        c0 = R[0, 0] * q0 + R[1, 0] * q1 + R[2, 0] * q2
         c2 = R[0, 2] * q0 + R[1, 2] * q1 + R[2, 2] * q2
         rho = np.sqrt(c0 * c0 + c2 * c2)
-        k, pos = nearest_from(side * c1 - d, rho, ws_, wr, K_NEAR, pos)
+        k, pos = nearest_from(x, rho, ws_, wr, K_NEAR, pos)
         g = -1
         for h in range(ws.nvol):
             if ws.kmin[h] - 1 <= k <= ws.kmax[h] + 1:
