@@ -560,49 +560,25 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
         either side of roll 0), and every dip of ``|h|`` toward zero between scan points is
         searched for its extremum (two close roots can hide between two scan points).
     """
-    h = np.asarray(hfun(x) if h is None else h, dtype=float)
+    x = np.ascontiguousarray(x, dtype=float)
+    h = np.ascontiguousarray(hfun(x) if h is None else h, dtype=float)
     if edge is None:
         edge = partial(_edge_by, hfun)
     if extremum is None:
         extremum = partial(_extremum_by, hfun)
-    extra = _nan_edges(x, h, edge, n_bisect, lip) + _dips(x, h, extremum, n_golden)
-    X = np.concatenate([x, [p[0] for p in extra]])
-    H = np.concatenate([h, [p[1] for p in extra]])
-    order = np.lexsort((H, X))  # by roll (then h): the scan points and the extra points
-    fin = np.isfinite(H[order])
-    xf, hf = X[order][fin], H[order][fin]
-    nan_before = np.concatenate([[0], np.cumsum(~np.isfinite(h))])  # NaN scan points < x[k]
-    with np.errstate(invalid="ignore"):
-        change = np.nonzero((hf[:-1] * hf[1:] < 0) | (hf[:-1] == 0.0))[0]
-    out = []
-    for i in change.tolist() + ([hf.size - 1] if hf.size and hf[-1] == 0.0 else []):
-        xa, fa = float(xf[i]), float(hf[i])
-        if fa == 0.0:
-            prev = hf[i - 1] if i > 0 else np.nan
-            nxt = hf[i + 1] if i + 1 < hf.size else np.nan
-            out.append((xa, xa, bool(prev > 0 or nxt < 0)))
-        else:
-            xb = float(xf[i + 1])
-            # one finite run: no NaN scan point strictly between the two
-            if nan_before[np.searchsorted(x, xb, "left")] == nan_before[
-                    np.searchsorted(x, xa, "right")]:
-                out.append((xa, xb, bool(fa > 0)))
-    return out
-
-
-def _nan_edges(x, h, edge, n_bisect: int, lip: float = np.inf) -> list[tuple[float, float]]:
-    """The last finite point before every range where ``h`` is NaN (bisection), unless
-    ``|h|`` there is too large for a root to lie before the NaN range (``lip`` bounds the
-    slope)."""
-    out = []
-    fin = np.isfinite(h)
-    for i in np.nonzero(fin[:-1] != fin[1:])[0]:
-        a, b = (x[i], x[i + 1]) if fin[i] else (x[i + 1], x[i])  # a finite, b NaN
-        if abs(h[i] if fin[i] else h[i + 1]) > lip * abs(b - a):
-            continue
-        xa, ha = edge(float(a), float(b), n_bisect)
-        out.append((float(xa), float(ha)))
-    return out
+    # compiled: which NaN edges and dips need a search, and the brackets of all the points
+    edges, dips = rk.bracket_searches(x, h, float(lip))
+    extra = [edge(a, b, n_bisect) for a, b in edges.tolist()]
+    for i in dips.tolist():
+        sgn = 1.0 if h[i] > 0 else -1.0
+        xm, fm = extremum(float(x[i - 1]), float(x[i + 1]), sgn, n_golden)
+        extra.append((xm, sgn * fm))
+    X, H = x, h
+    if extra:
+        X = np.concatenate([x, [float(p[0]) for p in extra]])
+        H = np.concatenate([h, [float(p[1]) for p in extra]])
+    a, b, stable = rk.bracket_ends(x, h, X, H)
+    return list(zip(a.tolist(), b.tolist(), stable.tolist(), strict=True))
 
 
 def _edge_by(hfun, a: float, b: float, n: int) -> tuple[float, float]:
@@ -613,24 +589,6 @@ def _edge_by(hfun, a: float, b: float, n: int) -> tuple[float, float]:
         else:
             b = m
     return a, float(hfun(np.array([a]))[0])
-
-
-def _dips(x, h, extremum, n_golden: int) -> list[tuple[float, float]]:
-    """Extrema of ``h`` between scan points where ``|h|`` dips toward zero without a sign
-    change (bounded golden-section search for the extremum)."""
-    out = []
-    hm, h0, hp = h[:-2], h[1:-1], h[2:]
-    with np.errstate(invalid="ignore"):
-        dip = (np.isfinite(hm) & np.isfinite(hp) & np.isfinite(h0)
-               & (hm * h0 > 0) & (h0 * hp > 0) & (np.abs(h0) <= np.abs(hm))
-               & (np.abs(h0) <= np.abs(hp))
-               # not shallow compared to its distance from zero
-               & (np.abs(h0) <= np.maximum(np.abs(hm - h0), np.abs(hp - h0))))
-    for i in np.nonzero(dip)[0] + 1:
-        sgn = 1.0 if h[i] > 0 else -1.0
-        xm, fm = extremum(float(x[i - 1]), float(x[i + 1]), sgn, n_golden)
-        out.append((float(xm), float(sgn * fm)))
-    return out
 
 
 def _extremum_by(hfun, lo: float, hi: float, sgn: float, n: int) -> tuple[float, float]:

@@ -220,6 +220,90 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
     return h
 
 
+# -- the brackets of the roll scan (:func:`lutmpi.contact.locus.find_brackets`) --------------
+@njit(cache=True)
+def bracket_searches(x, h, lip):
+    """What the scan ``(x, h)`` needs searched between its points: the NaN edges (pairs
+    ``(a, b)``, ``a`` finite and ``b`` NaN, where ``|h(a)|`` is at most ``lip`` times the step:
+    a root may lie before the NaN range) and the dips (index ``i`` of a scan point whose ``|h|``
+    is at most both neighbours', all three of one sign and finite, and not shallow compared to
+    its distance from zero). Returns ``(edges (m, 2), dips (k,))``."""
+    n = x.size
+    edges = np.empty((max(n - 1, 0), 2))
+    ne = 0
+    for i in range(n - 1):
+        fa, fb = np.isfinite(h[i]), np.isfinite(h[i + 1])
+        if fa == fb:
+            continue
+        if fa:
+            a, b, ha = x[i], x[i + 1], h[i]
+        else:
+            a, b, ha = x[i + 1], x[i], h[i + 1]
+        if abs(ha) > lip * abs(b - a):
+            continue
+        edges[ne, 0], edges[ne, 1] = a, b
+        ne += 1
+    dips = np.empty(max(n - 2, 0), dtype=np.int64)
+    nd = 0
+    for i in range(1, n - 1):
+        hm, h0, hp = h[i - 1], h[i], h[i + 1]
+        if not (np.isfinite(hm) and np.isfinite(hp) and np.isfinite(h0)):
+            continue
+        if (hm * h0 > 0 and h0 * hp > 0 and abs(h0) <= abs(hm) and abs(h0) <= abs(hp)
+                and abs(h0) <= max(abs(hm - h0), abs(hp - h0))):
+            dips[nd] = i
+            nd += 1
+    return edges[:ne], dips[:nd]
+
+
+@njit(cache=True)
+def bracket_ends(x, h, X, H):
+    """The brackets of the scan ``(x, h)`` with the searched points appended (``X, H``: the
+    scan points, then the points the edge and dip searches found): sign changes and exact zeros
+    between neighbours in order of roll (then ``h``; a stable order), a bracket only within one
+    finite run of the scan. Returns ``(a, b, stable)`` arrays (``a == b`` at an exact zero;
+    ``stable``: ``h`` falls through zero)."""
+    m = X.size
+    order = np.arange(m)
+    for i in range(1, m):  # stable insertion sort by (X, H); the scan points are in order
+        v = order[i]
+        j = i - 1
+        while j >= 0 and (X[order[j]] > X[v] or (X[order[j]] == X[v] and H[order[j]] > H[v])):
+            order[j + 1] = order[j]
+            j -= 1
+        order[j + 1] = v
+    xf, hf = np.empty(m), np.empty(m)
+    nf = 0
+    for i in range(m):
+        if np.isfinite(H[order[i]]):
+            xf[nf], hf[nf] = X[order[i]], H[order[i]]
+            nf += 1
+    nan_before = np.zeros(x.size + 1, dtype=np.int64)  # NaN scan points before x[k]
+    for k in range(x.size):
+        nan_before[k + 1] = nan_before[k] + (0 if np.isfinite(h[k]) else 1)
+    a, b = np.empty(nf + 1), np.empty(nf + 1)
+    st = np.empty(nf + 1, dtype=np.bool_)
+    nb = 0
+    for i in range(nf):
+        xa, fa = xf[i], hf[i]
+        last = i == nf - 1
+        if not (fa == 0.0 or (not last and fa * hf[i + 1] < 0)):
+            continue
+        if fa == 0.0:
+            prev = hf[i - 1] if i > 0 else np.nan
+            nxt = hf[i + 1] if not last else np.nan
+            a[nb], b[nb], st[nb] = xa, xa, prev > 0 or nxt < 0
+            nb += 1
+        else:
+            xb = xf[i + 1]
+            # one finite run: no NaN scan point strictly between the two
+            if (nan_before[np.searchsorted(x, xb, "left")]
+                    == nan_before[np.searchsorted(x, xa, "right")]):
+                a[nb], b[nb], st[nb] = xa, xb, fa > 0
+                nb += 1
+    return a[:nb], b[:nb], st[:nb]
+
+
 #: fraction of the two-point step :func:`scan_adaptive` tries (below 1, so that the try
 #: succeeds while ``|dh/droll|`` stays under ``(1/LOOKAHEAD - 1) lip``, ~2 m/rad on the paper's
 #: pair against ~1.5 there)
