@@ -26,7 +26,6 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from lutmpi.contact import rigid_kernels as rk
-from lutmpi.geometry.pose import wheelset_rotation
 from lutmpi.geometry.track import SIDES, PlacedRail, WheelGeometry
 
 
@@ -56,37 +55,6 @@ class Locus:
     s: np.ndarray
     phi: np.ndarray
     gap: np.ndarray  # vertical gap to the rail, m (+inf outside the rail)
-
-
-def locus_angles(side: float, dr: np.ndarray, R: np.ndarray) -> np.ndarray:
-    """``phi*`` per sample for wheel ``side`` under rotation ``R`` (rad)."""
-    a, b, c = R[0]
-    amp = np.hypot(a, c)
-    rp = side * dr  # d r / d y_w in the wheelset frame
-    return np.arctan2(c, a) + np.arcsin(np.clip(b * rp / amp, -1.0, 1.0))
-
-
-def wheel_points_body(
-    side: float, s: np.ndarray, r: np.ndarray, phi: np.ndarray, d: float
-) -> np.ndarray:
-    """Wheelset-frame points ``(r sin phi, side (d + s), -r cos phi)``, shape (n, 3)."""
-    out = np.empty((phi.size, 3))
-    out[:, 0] = r * np.sin(phi)
-    out[:, 1] = side * (d + s)
-    out[:, 2] = -r * np.cos(phi)
-    return out
-
-
-def _parabolic_min(g: np.ndarray, i: int) -> tuple[float, float]:
-    """Offset (in samples, within ±0.5) and value of the parabola through g[i-1], g[i], g[i+1]."""
-    if i <= 0 or i >= g.size - 1 or not np.isfinite(g[i - 1] + g[i + 1]):
-        return 0.0, float(g[i])
-    gm, g0, gp = g[i - 1], g[i], g[i + 1]
-    den = gm - 2.0 * g0 + gp
-    if den <= 0:
-        return 0.0, float(g0)
-    t = min(max(float(0.5 * (gm - gp) / den), -0.5), 0.5)
-    return t, float(g0 - 0.25 * (gm - gp) * t)
 
 
 def local_minima(gap: np.ndarray) -> np.ndarray:
@@ -490,42 +458,14 @@ class LocusSolver:
             loc.gap += z_g  # lifting G lifts every gap
             out.loci[name] = loc
             sd = self.sides[name]
-            pp = sd.wheel.profile.ppolys
-            if pp is None:  # a smoothing spline: SciPy evaluates it
-                R, centre = wheelset_rotation(yaw, roll), np.array([0.0, y, z_g])
-                out.contacts[name] = [self._refine(sd, loc, i, centre, R)
-                                      for i in contact_minima(loc.gap, self.double_tol, mc)]
-                continue
-            rows = rk.rigid_contacts(loc.gap, loc.s, sd.sign, sd.wheel.d, sd.wheel.r0, pp,
-                                     float(y), float(yaw), float(roll), float(z_g),
-                                     float(self.double_tol), int(mc))
+            rows = rk.rigid_contacts(loc.gap, loc.s, sd.sign, sd.wheel.d, sd.wheel.r0,
+                                     sd.wheel.profile.ppolys, float(y), float(yaw),
+                                     float(roll), float(z_g), float(self.double_tol), int(mc))
             out.contacts[name] = [
                 RigidContact(side=sd.sign, s=float(r[0]), phi=float(r[1]), point=r[2:5],
                              u=float(r[5]), gap=float(r[6]), at_end=bool(r[7]))
                 for r in rows]
         return out
-
-    @staticmethod
-    def _refine(sd: LocusSide, loc: Locus, i: int, centre: np.ndarray,
-                R: np.ndarray) -> RigidContact:
-        """The contact of gap minimum ``i`` (:func:`~lutmpi.contact.rigid_kernels.
-        rigid_contacts` in Python, for a profile whose spline SciPy evaluates)."""
-        t, g = _parabolic_min(loc.gap, i)
-        ds = loc.s[1] - loc.s[0]
-        s = float(loc.s[i] + t * ds)
-        r = float(sd.wheel.radius(s))
-        dr = np.asarray([sd.wheel.dr(s)])
-        phi = float(locus_angles(loc.side, dr, R)[0])
-        p = (
-            centre
-            + wheel_points_body(
-                loc.side, np.array([s]), np.array([r]), np.array([phi]), sd.wheel.d
-            )[0]
-            @ R.T
-        )
-        return RigidContact(side=loc.side, s=s, phi=phi, point=p, u=float(loc.side * p[1]),
-                            gap=g, at_end=sd.at_end(loc.gap, i))
-
 
 
 # -- roots of the height mismatch -------------------------------------------------------------

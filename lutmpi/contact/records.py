@@ -60,15 +60,12 @@ def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
     side = np.array([r[0] for r in rows])
     rp = np.array([r[2] for r in rows])
     s = np.array([float(r[5]) for r in rows])
-    wpp, rpp = wheel.profile.ppolys, rail.ppolys
-    if wpp is not None and rpp is not None:
-        nrm = np.array([r[3] for r in rows])
-        geo = record_geometry(side, rp[:, 1].copy(), rp[:, 2].copy(), s, nrm[:, 1].copy(),
-                              nrm[:, 2].copy(), wpp, wheel.r0, wheel.s_min, wheel.s_max, rpp,
-                              (rail.u_min, rail.u_max, rail.gauge, rail.v_gp, rail.w_top,
-                               rail.inclination), CURV_BASE)
-    else:  # a smoothing spline: SciPy evaluates it
-        geo = _record_geometry_python(sd, side, rp, s, rows)
+    nrm = np.array([r[3] for r in rows])
+    geo = record_geometry(side, rp[:, 1].copy(), rp[:, 2].copy(), s, nrm[:, 1].copy(),
+                          nrm[:, 2].copy(), wheel.profile.ppolys, wheel.r0, wheel.s_min,
+                          wheel.s_max, rail.ppolys, (rail.u_min, rail.u_max, rail.gauge,
+                                                     rail.v_gp, rail.w_top, rail.inclination),
+                          CURV_BASE)
     out = []
     for (_, wp, rpi, n, C, si, kc), g in zip(rows, geo.tolist(), strict=True):
         out.append(ContactResult(
@@ -89,11 +86,6 @@ def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
     return out
 
 
-#: columns of :func:`record_geometry`'s result
-GEOMETRY_COLUMNS = ("rolling_radius", "contact_angle", "rail_v", "wheel_curv_rolling",
-                    "wheel_curv_transverse", "rail_curv_transverse")
-
-
 @njit(cache=True)
 def _chord(x, lo_b, hi_b, h, c, xs, c1, x1):
     """:func:`lutmpi.geometry.track._chord_curvature` at one point ``x`` of a curve (spline
@@ -109,8 +101,10 @@ def _chord(x, lo_b, hi_b, h, c, xs, c1, x1):
 @njit(cache=True)
 def record_geometry(sgn, rp_y, rp_z, s, n_y, n_z, wpp, r0, s_min, s_max, rpp, rail_geo, h):
     """The stored geometry of contacts (side signs ``sgn``; rail points' ``y, z``, m; wheel
-    profile coordinates ``s``, m; the normals' ``y, z``): per contact the columns of
-    :data:`GEOMETRY_COLUMNS`, as :meth:`~lutmpi.geometry.track.WheelGeometry.contact_geometry`,
+    profile coordinates ``s``, m; the normals' ``y, z``): per contact, in this order, the
+    :class:`ContactResult` attributes rolling radius, contact angle, rail profile coordinate,
+    wheel rolling curvature, wheel and rail transverse curvatures, as
+    :meth:`~lutmpi.geometry.track.WheelGeometry.contact_geometry`,
     :meth:`~lutmpi.geometry.track.PlacedRail.profile_coordinate` and ``convex_curvature``
     compute them. ``wpp``, ``rpp``: ``(c, x, c1, x1)`` of the wheel profile and the placed
     rail (their ``ppolys``); ``rail_geo``: ``(u_min, u_max, gauge, v_gp, w_top,
@@ -131,20 +125,4 @@ def record_geometry(sgn, rp_y, rp_z, s, n_y, n_z, wpp, r0, s_min, s_max, rpp, ra
         out[i, 3] = 1.0 / (r * np.sqrt(1.0 + d * d))
         out[i, 4] = _chord(si, s_min, s_max, h, zc, zx, dc, dx)
         out[i, 5] = _chord(min(max(u, u_min), u_max), u_min, u_max, h, rc, rx, rdc, rdx)
-    return out
-
-
-def _record_geometry_python(sd, side: np.ndarray, rp: np.ndarray, s: np.ndarray,
-                            rows: list[tuple]) -> np.ndarray:
-    """:func:`record_geometry` by the geometry's own methods (a profile SciPy evaluates)."""
-    wheel, rail = sd.wheel, sd.rail
-    u_r = side * rp[:, 1]
-    rad, dr, cw = wheel.contact_geometry(s)
-    v = rail.profile_coordinate(u_r, rp[:, 2])
-    cr = rail.convex_curvature(np.minimum(np.maximum(u_r, rail.u_min), rail.u_max))
-    out = np.empty((len(rows), 6))
-    for i, row in enumerate(rows):
-        sg, n, r, d = row[0], row[3], float(rad[i]), float(dr[i])
-        out[i] = (r, float(np.arctan2(-sg * n[1], n[2])), float(v[i]),
-                  1.0 / (r * np.sqrt(1.0 + d * d)), float(cw[i]), float(cr[i]))
     return out

@@ -26,7 +26,7 @@ from scipy.interpolate import CubicSpline
 
 from lutmpi.errors import GeometryError
 from lutmpi.profiles.model import Profile
-from lutmpi.profiles.spline import FastPPoly, fast
+from lutmpi.profiles.spline import fast
 
 SIDES = {"left": 1.0, "right": -1.0}
 MAX_SLOPE_DEG = 85.0  # profile parts steeper than this are never contact candidates
@@ -165,12 +165,10 @@ class PlacedRail:
         object.__setattr__(self, "_d2", spl.derivative(2))
 
     @property
-    def ppolys(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    def ppolys(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``(c, x, c1, x1)`` of the placed rail's spline and of its slope for the compiled
-        kernels (:func:`lutmpi.profiles.spline.ppoly_at`); None if SciPy evaluates them."""
-        if isinstance(self._spl, FastPPoly) and isinstance(self._d1, FastPPoly):
-            return self._spl.c, self._spl.x, self._d1.c, self._d1.x
-        return None
+        kernels (:func:`lutmpi.profiles.spline.ppoly_at`)."""
+        return self._spl.c, self._spl.x, self._d1.c, self._d1.x
 
     @property
     def u_min(self) -> float:

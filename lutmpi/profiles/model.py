@@ -28,7 +28,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline, make_smoothing_spline
 
 from lutmpi.errors import ProfileError
-from lutmpi.profiles.spline import FastPPoly, fast
+from lutmpi.profiles.spline import fast, piecewise
 
 Kind = Literal["wheel", "rail"]
 
@@ -89,12 +89,11 @@ class Profile:
         object.__setattr__(self, "y", y)
         object.__setattr__(self, "z", z)
         if self.smoothing > 0:
-            spl = make_smoothing_spline(y, z, lam=self.smoothing)
-            d1, d2 = spl.derivative(1), spl.derivative(2)
+            spl = piecewise(make_smoothing_spline(y, z, lam=self.smoothing))
         else:
             spl = CubicSpline(y, z, bc_type="not-a-knot")
-            d1, d2 = spl.derivative(1), spl.derivative(2)
-        spl, d1, d2 = fast(spl), fast(d1), fast(d2)  # compiled, the same values
+        # compiled, the same values
+        spl, d1, d2 = fast(spl), fast(spl.derivative(1)), fast(spl.derivative(2))
         object.__setattr__(self, "_spl", spl)
         object.__setattr__(self, "_d1", d1)
         object.__setattr__(self, "_d2", d2)
@@ -117,13 +116,10 @@ class Profile:
         return self._d1(y)
 
     @property
-    def ppolys(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    def ppolys(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Coefficients and breakpoints ``(c, x, c1, x1)`` of the spline and of its slope for
-        the compiled kernels (:func:`lutmpi.profiles.spline.ppoly_at`); None for a smoothing
-        spline, which SciPy evaluates."""
-        if isinstance(self._spl, FastPPoly) and isinstance(self._d1, FastPPoly):
-            return self._spl.c, self._spl.x, self._d1.c, self._d1.x
-        return None
+        the compiled kernels (:func:`lutmpi.profiles.spline.ppoly_at`)."""
+        return self._spl.c, self._spl.x, self._d1.c, self._d1.x
 
     def second(self, y: np.ndarray | float) -> np.ndarray:
         """``d2z/dy2`` at ``y`` (1/m)."""

@@ -7,15 +7,16 @@ SciPy's call costs ~7 µs of overhead each time, several times the arithmetic.
 computes, in its order of operations: the interval ``x[i] <= t < x[i+1]`` (the last one closed;
 the first or last interval beyond the ends), then ``sum_k c[K-1-k, i] s^k`` with the powers
 ``s^k`` of ``s = t - x[i]`` built by repeated products and the terms added from the lowest
-power up. The values are SciPy's to the bit (``tests/unit/test_profiles.py`` checks them on
-every kind of point). Any other spline (a smoothing ``BSpline``) is returned as it is.
+power up. The values are SciPy's to the bit (``tests/unit/test_profiles_spline.py`` checks
+them on every kind of point). A smoothing ``BSpline`` is first written as the ``PPoly`` of its
+own polynomial pieces (:func:`piecewise`), so that every profile is evaluated by this one code.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
-from scipy.interpolate import PPoly
+from scipy.interpolate import BSpline, PPoly
 
 
 @njit(cache=True)
@@ -63,11 +64,24 @@ class FastPPoly:
         return FastPPoly(self.pp.derivative(nu))
 
 
-def fast(spline):
-    """``spline`` evaluated compiled where it is a 1-D extrapolating ``PPoly`` with increasing
-    breakpoints (a ``CubicSpline`` and its derivatives); any other spline as it is."""
-    if (isinstance(spline, PPoly) and spline.extrapolate is True and spline.c.ndim == 2
+def fast(spline: PPoly) -> FastPPoly:
+    """``spline`` evaluated compiled: a 1-D extrapolating ``PPoly`` with increasing
+    breakpoints (a ``CubicSpline``, :func:`piecewise`, their derivatives)."""
+    if not (isinstance(spline, PPoly) and spline.extrapolate is True and spline.c.ndim == 2
             and spline.x.size >= 2 and np.all(np.diff(spline.x) > 0)
             and np.isrealobj(spline.c)):
-        return FastPPoly(spline)
-    return spline
+        raise TypeError(f"expected a 1-D extrapolating PPoly with increasing breakpoints, got "
+                        f"{type(spline).__name__}")
+    return FastPPoly(spline)
+
+
+def piecewise(spline: BSpline) -> PPoly:
+    """A ``BSpline`` (a measured profile's smoothing spline) as the ``PPoly`` of the same
+    polynomial pieces: SciPy's ``PPoly.from_spline`` without the zero-width intervals of the
+    repeated end knots, extrapolating the end pieces as the ``BSpline`` does. Its values are
+    the B-spline's to rounding (a few 1e-18 m over a profile's data; ``tests/unit/
+    test_profiles_spline.py``)."""
+    pp = PPoly.from_spline(spline, extrapolate=True)
+    keep = np.diff(pp.x) > 0
+    x = np.append(pp.x[:-1][keep], pp.x[1:][keep][-1])
+    return PPoly(np.ascontiguousarray(pp.c[:, keep]), x, extrapolate=True)

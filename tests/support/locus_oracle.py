@@ -1,13 +1,14 @@
-"""The local rigid solve of :class:`lutmpi.contact.locus.LocusSolver` as it ran in Python with
-SciPy's ``brentq`` before it was compiled (issue 14): the oracle the compiled
-:func:`lutmpi.contact.rigid_kernels.local_root` must equal to the bit."""
+"""Parts of the rigid solve as they ran in Python before they were compiled (issue 14), the
+oracles of their compiled forms: the local solve with SciPy's ``brentq`` (equal to the bit),
+the bracket list, the contact minima, the contact refinement and the stored contact geometry
+(equal to numpy's last-bit rounding of arcsin, arctan and arctan2)."""
 
 from __future__ import annotations
 
 import numpy as np
 from scipy.optimize import brentq
 
-from lutmpi.contact.locus import LocusSolver, local_minima
+from lutmpi.contact.locus import LocusSolver, RigidContact, local_minima
 from lutmpi.contact.rigid_kernels import side_gaps
 
 
@@ -133,3 +134,46 @@ def contact_minima(gap: np.ndarray, double_tol: float, max_contacts: int = 2) ->
         if all(np.max(gap[min(i, j) : max(i, j) + 1]) > gap[i] + 1e-7 for j in chosen):
             chosen.append(int(i))
     return chosen
+
+
+def refine_contact(sd, loc, i: int, centre: np.ndarray, R: np.ndarray) -> RigidContact:
+    """The rigid contact of gap minimum ``i`` of locus ``loc`` (side ``sd`` of a
+    :class:`~lutmpi.contact.locus.LocusSolver`) as :meth:`LocusSolver.finish` computed it in
+    numpy before it was compiled (issue 14): the parabola's offset through the minimum and its
+    neighbours, the wheel's radius and slope there, the locus angle, the point ``G + R c``. The
+    oracle of :func:`lutmpi.contact.rigid_kernels.rigid_contacts`."""
+    g = loc.gap
+    t, gmin = 0.0, float(g[i])
+    if 0 < i < g.size - 1 and np.isfinite(g[i - 1] + g[i + 1]):
+        gm, g0, gp = g[i - 1], g[i], g[i + 1]
+        den = gm - 2.0 * g0 + gp
+        if den > 0:
+            t = min(max(float(0.5 * (gm - gp) / den), -0.5), 0.5)
+            gmin = float(g0 - 0.25 * (gm - gp) * t)
+    s = float(loc.s[i] + t * (loc.s[1] - loc.s[0]))
+    r, dr = float(sd.wheel.radius(s)), float(sd.wheel.dr(s))
+    a, b, c = R[0]
+    phi = float(np.arctan2(c, a) + np.arcsin(np.clip(b * (loc.side * dr) / np.hypot(a, c),
+                                                     -1.0, 1.0)))
+    body = np.array([r * np.sin(phi), loc.side * (sd.wheel.d + s), -r * np.cos(phi)])
+    p = centre + body @ R.T
+    return RigidContact(side=loc.side, s=s, phi=phi, point=p, u=float(loc.side * p[1]),
+                        gap=gmin, at_end=sd.at_end(g, i))
+
+
+def record_geometry(sd, side: np.ndarray, rp: np.ndarray, s: np.ndarray,
+                    normals: np.ndarray) -> np.ndarray:
+    """The stored geometry of contacts by the geometry's own (numpy) methods, as
+    :mod:`lutmpi.contact.records` computed it before it was compiled (issue 14): the oracle of
+    :func:`lutmpi.contact.records.record_geometry` (its columns)."""
+    wheel, rail = sd.wheel, sd.rail
+    u_r = side * rp[:, 1]
+    rad, dr, cw = wheel.contact_geometry(s)
+    v = rail.profile_coordinate(u_r, rp[:, 2])
+    cr = rail.convex_curvature(np.minimum(np.maximum(u_r, rail.u_min), rail.u_max))
+    out = np.empty((s.size, 6))
+    for i in range(s.size):
+        sg, n, r, d = side[i], normals[i], float(rad[i]), float(dr[i])
+        out[i] = (r, float(np.arctan2(-sg * n[1], n[2])), float(v[i]),
+                  1.0 / (r * np.sqrt(1.0 + d * d)), float(cw[i]), float(cr[i]))
+    return out

@@ -1,9 +1,9 @@
 """The stored per-contact geometry computed compiled (:func:`lutmpi.contact.records.
-record_geometry`, issue 14) against the geometry's own methods (``_record_geometry_python``,
-the path of a profile SciPy evaluates): rolling radius, contact angle, rail profile coordinate
-and the three curvatures, on both sides of an asymmetric pair (a worn left wheel), over wheel
-points from flange to field side, rail points near the rail's ends (the curvature's base is
-clipped there) and steep normals."""
+record_geometry`, issue 14) against the geometry's own numpy methods (the form it replaced,
+``tests/support/locus_oracle.record_geometry``): rolling radius, contact angle, rail profile
+coordinate and the three curvatures, on both sides of an asymmetric pair (a worn left wheel),
+over wheel points from flange to field side, rail points near the rail's ends (the
+curvature's base is clipped there) and steep normals."""
 
 from __future__ import annotations
 
@@ -11,12 +11,16 @@ import math
 
 import numpy as np
 
-from lutmpi.contact.records import GEOMETRY_COLUMNS, _record_geometry_python, record_geometry
+from lutmpi.contact.records import record_geometry
 from lutmpi.geometry.track import CURV_BASE
 from lutmpi.profiles.standard import s1002, uic60
 from lutmpi.profiles.wear import flange_thinning
 from lutmpi.scene import Scene
+from tests.support.locus_oracle import record_geometry as oracle
 
+#: record_geometry's columns: ContactResult attributes
+COLUMNS = ("rolling_radius", "contact_angle", "rail_v", "wheel_curv_rolling",
+           "wheel_curv_transverse", "rail_curv_transverse")
 #: last-bit differences: numba's arctan/arctan2 round differently from numpy's
 TOL = {"rolling_radius": 0.0, "contact_angle": 1e-15, "rail_v": 0.0,
        "wheel_curv_rolling": 0.0, "wheel_curv_transverse": 1e-11, "rail_curv_transverse": 1e-11}
@@ -38,14 +42,13 @@ def test_compiled_record_geometry_equals_the_geometry_methods():
         side = np.full(n, sgn)
         rp = np.column_stack([rng.uniform(-0.02, 0.02, n), sgn * u, rng.uniform(-0.03, 0.0, n)])
         nrm = np.column_stack([np.zeros(n), -sgn * np.sin(ang), np.cos(ang)])
-        rows = [(sgn, rp[i], rp[i], nrm[i], 0.0, s[i], np.nan) for i in range(n)]
-        want = _record_geometry_python(sd, side, rp, s, rows)
+        want = oracle(sd, side, rp, s, nrm)
         got = record_geometry(side, rp[:, 1].copy(), rp[:, 2].copy(), s, nrm[:, 1].copy(),
                               nrm[:, 2].copy(), wheel.profile.ppolys, wheel.r0, wheel.s_min,
                               wheel.s_max, rail.ppolys,
                               (rail.u_min, rail.u_max, rail.gauge, rail.v_gp, rail.w_top,
                                rail.inclination), CURV_BASE)
-        for k, col in enumerate(GEOMETRY_COLUMNS):
+        for k, col in enumerate(COLUMNS):
             err = np.abs(got[:, k] - want[:, k])
             scale = np.maximum(np.abs(want[:, k]), 1.0)
             assert np.all(err <= TOL[col] * scale), (name, col, float(err.max()))

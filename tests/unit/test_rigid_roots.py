@@ -406,10 +406,11 @@ def test_compiled_contact_minima_equal_the_numpy_ones(thinned_scene):
 
 def test_compiled_contact_refinement_equals_the_python_one(thinned_scene):
     # the contacts of the converged root are refined compiled (rk.rigid_contacts, issue 14);
-    # LocusSolver._refine, the path of a smoothing spline, is the oracle. numba's arcsin and
-    # arctan2 round differently from numpy's in the last bit, so the locus angle (and what
-    # depends on it) agrees to a few ulp; the discrete results (which minima, at_end) exactly
+    # the numpy form it replaced is the oracle. numba's arcsin and arctan2 round differently
+    # from numpy's in the last bit, so the locus angle (and what depends on it) agrees to a
+    # few ulp; the discrete results (which minima, at_end) exactly
     from lutmpi.geometry.pose import wheelset_rotation
+    from tests.support.locus_oracle import refine_contact
 
     L = thinned_scene.locus
     seen = {"double": 0, "end": 0}
@@ -421,7 +422,7 @@ def test_compiled_contact_refinement_equals_the_python_one(thinned_scene):
             R, centre = wheelset_rotation(yaw, rig.roll), np.array([0.0, y, rig.z_g])
             for name, loc in rig.loci.items():
                 sd = L.sides[name]
-                want = [L._refine(sd, loc, i, centre, R)
+                want = [refine_contact(sd, loc, i, centre, R)
                         for i in rk.contact_minima(loc.gap, L.double_tol, L.max_contacts)]
                 got = rig.contacts[name]
                 assert len(got) == len(want)
