@@ -245,7 +245,10 @@ class Equilibrium:
 
     # -- residual and Jacobian -------------------------------------------------------------
     def residual(self, q: np.ndarray, kc: float) -> tuple[np.ndarray, np.ndarray, dict]:
-        """Residual (2,), Jacobian (2, 2) and the contacts at ``q`` for contact stiffness ``kc``."""
+        """Residual (2,), Jacobian (2, 2) and the contacts at ``q`` for contact stiffness ``kc``
+        (by the compiled twin ``fast`` where there is one: the same evaluation)."""
+        if self.fast is not None:
+            return self.fast.residual(self, q, kc)
         R, J, contacts, _ = self._residual(q, kc, rated=False)
         return R, J, contacts
 

@@ -245,17 +245,21 @@ class CompiledNewton:
             return False
         return True
 
+    def _ctx(self, solver) -> tuple:
+        """The compiled evaluation's context (:func:`_evaluate`) for ``solver``."""
+        eq, rigid = self._eq, self._rigid
+        return (self._kid, float(rigid.y), float(rigid.yaw), solver.q0, float(solver.axis[0]),
+                float(solver.axis[1]), float(eq.load), float(eq.k_el), float(eq.k_rot),
+                float(self.rate), int(self.mc), self._flange, self._sides[0], self._sides[1],
+                self._fls[0], self._fls[1], float(solver.lever), float(eq.rtol),
+                float(solver.fmin), float(eq.qtol), float(eq.allowed_indentation))
+
     def newton(self, solver, q: np.ndarray, kc: float, max_iter: int):
         """:meth:`Equilibrium.newton` of ``solver`` (its counts, budgets and last evaluation
         kept on it); returns ``(q, ok, R, contacts)``."""
-        eq, rigid = self._eq, self._rigid
-        ctx = (self._kid, float(rigid.y), float(rigid.yaw), solver.q0, float(solver.axis[0]),
-               float(solver.axis[1]), float(eq.load), float(eq.k_el), float(eq.k_rot),
-               float(self.rate), int(self.mc), self._flange, self._sides[0], self._sides[1],
-               self._fls[0], self._fls[1], float(solver.lever), float(eq.rtol),
-               float(solver.fmin), float(eq.qtol), float(eq.allowed_indentation))
+        eq = self._eq
         ok, status, nit, cur, last = newton(np.asarray(q, dtype=float), float(kc), int(max_iter),
-                                            ctx, self.state, int(solver.nit),
+                                            self._ctx(solver), self.state, int(solver.nit),
                                             int(eq.max_iterations), float(solver.deadline))
         solver.nit = nit
         qs, Rs = self.state[0], self.state[1]
@@ -265,6 +269,20 @@ class CompiledNewton:
             raise BudgetExceededError(status)
         cs = solver._last[2] if cur == last else self.forces(cur)
         return qs[cur].copy(), bool(ok), Rs[cur].copy(), cs
+
+    def residual(self, solver, q: np.ndarray, kc: float):
+        """:meth:`Equilibrium.residual` of ``solver`` (the bracketing's evaluations) by the
+        compiled evaluation: its budgets checked first, its count and last evaluation kept;
+        returns ``(R, J, contacts)``."""
+        status = _budget(int(solver.nit), int(self._eq.max_iterations), float(solver.deadline))
+        if status:
+            raise BudgetExceededError(status)
+        solver.nit += 1
+        J = _evaluate(0, np.asarray(q, dtype=float), float(kc), self._ctx(solver), self.state,
+                      False)
+        R, cs = self.state[1][0].copy(), self.forces(0)
+        solver._last = (q, R, cs)
+        return R, J, cs
 
     def forces(self, t: int) -> dict[str, list[ContactForce]]:
         """The contacts of state ``t`` as the Python evaluation returns them."""

@@ -7,6 +7,7 @@ with a note naming the grid point and method.
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any
@@ -91,9 +92,16 @@ def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
 
 def pose_to_record(result: PoseResult, fields: Sequence[Field]) -> dict[str, np.ndarray]:
     """The flat per-point record of one pose: field name -> array of the field's suffix shape."""
-    out = {f.name: f.empty((1,)) for f in fields}
+    out = {name: arr.copy() for name, arr in _empty_record(tuple(fields)).items()}
     fill_record(out, 0, result)
     return {name: arr[0] for name, arr in out.items()}
+
+
+@functools.lru_cache(maxsize=16)
+def _empty_record(fields: tuple[Field, ...]) -> dict[str, np.ndarray]:
+    """A fill-valued one-point record of ``fields`` (copied for each pose: the jump step makes
+    thousands)."""
+    return {f.name: f.empty((1,)) for f in fields}
 
 
 def compute_points(scene: Any, grid: Grid, points: np.ndarray, methods: Sequence[str],

@@ -102,3 +102,28 @@ def test_unknown_kernels_and_bad_flange_radii_stay_in_python():
     other = replace(get_method("load_centre"), name="a_new_method")
     assert not CompiledNewton.supports(scene, other)
     assert CompiledNewton.supports(scene, get_method("load_centre"))
+
+
+def test_bracketing_evaluates_compiled_as_in_python(monkeypatch):
+    # where Newton stalls on a residual that jumps (load centre, paper pair, y = ±5.5 mm at
+    # yaw ±0.06 rad) the nested Brent search takes over; its evaluations run compiled
+    # (CompiledNewton.residual): the same pose, contacts and evaluation count as in Python
+    from lutmpi.config import load_config
+    from lutmpi.equilibrium.solver import Equilibrium
+    from lutmpi.paths import REPO_ROOT
+
+    scene = Scene.from_config(load_config(REPO_ROOT / "configs/paper_s1002_uic60_1in20.toml"))
+    seen = []
+    original = Equilibrium.bracketing
+
+    def spy(self, q, kc):
+        seen.append(self.fast is not None)
+        return original(self, q, kc)
+
+    monkeypatch.setattr(Equilibrium, "bracketing", spy)
+    for y, yaw in ((5.5 * MM, 0.06), (-5.5 * MM, 0.06)):
+        got = _solve(scene, y, yaw, "load_centre", True)
+        want = _solve(scene, y, yaw, "load_centre", False)
+        assert got.status == CONVERGED
+        _same(got, want)
+    assert seen.count(True) >= 2 and seen.count(False) >= 2  # both paths bracketed
