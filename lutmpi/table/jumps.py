@@ -117,12 +117,18 @@ class Jump:
         return 0.5 * (self.lo + self.hi)
 
 
-def _keys(rec: Record) -> tuple[tuple[int, ...], np.ndarray]:
-    """Discrete key (status, contacts per wheel) and the primary contact coordinates per wheel
-    (wheel s, rail v; shape (2, 2), m) of a record."""
+def _disc(rec: Record) -> tuple[int, ...]:
+    """Discrete key of a record: status, contacts per wheel."""
     disc = (int(rec[D.status]),)
     if D.n_contacts in rec:
         disc += tuple(int(v) for v in np.asarray(rec[D.n_contacts]).ravel())
+    return disc
+
+
+def _keys(rec: Record) -> tuple[tuple[int, ...], np.ndarray]:
+    """Discrete key (:func:`_disc`) and the primary contact coordinates per wheel (wheel s,
+    rail v; shape (2, 2), m) of a record."""
+    disc = _disc(rec)
     cols = [np.asarray(rec[n], float)[:, 0] for n in (D.wheel_s, D.rail_v) if n in rec]
     cont = np.stack(cols, axis=1) if cols else np.zeros((2, 0))
     return disc, cont
@@ -353,8 +359,8 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
         return []
     xm = x0 + 0.5 * (x1 - x0)
     rm = solve(xm, yaw)
-    km = _keys(rm)[0]
-    if km != _keys(r0)[0] or km != _keys(r1)[0]:
+    km = _disc(rm)
+    if km != _disc(r0) or km != _disc(r1):
         return []
     out = [(xm, rm)]
     tols = tolerances((r0, r1, rm), mesh)
