@@ -29,6 +29,11 @@ try:
     from lutmpi.pose.solve import solve_pose
 except ImportError:       # a tree before the pose pipeline moved out of contact/ (compare_trees)
     from lutmpi.contact.solve import solve_pose
+try:
+    from lutmpi.pose.solve import warm
+except ImportError:       # a tree before pose.solve.warm: one solve warms what it can
+    def warm(scene, method):
+        solve_pose(scene, 0.0, 0.0, method)
 from lutmpi.scene import Scene
 
 METHODS = ("reference", "max_distance", "max_normal_distance", "load_centre")
@@ -41,7 +46,7 @@ def sample_poses(cfg, n_y: int, n_yaw: int) -> list[tuple[float, float]]:
 
 
 def time_method(scene, poses, method: str) -> dict[str, float]:
-    solve_pose(scene, 0.0, 0.0, method)         # compile / warm the caches
+    warm(scene, method)                         # compile / warm the caches
     cpu, nit, bad = [], [], 0
     for y, yaw in poses:
         t = time.process_time()

@@ -133,6 +133,30 @@ def solve_mesh_pose(scene, rigid: RigidSolution, method, full: bool,
     return _pose_from_equilibrium(scene, rigid, method, out)
 
 
+def warm_rare_paths(scene, method) -> None:
+    """Load the compiled code a pose reaches only sometimes, with one evaluation each at the
+    rigid pose of (0, 0): the evaluation of the bracketing (:meth:`CompiledNewton.residual`,
+    where Newton stalls), the method's stage called from Python (a widened window's check,
+    :func:`_same_nodes`) and the locus solver's edge and dip searches. Without this their
+    first use in a process loads them from numba's cache (~10-30 ms each) inside that pose's
+    time, or compiles them on a cold cache."""
+    scene.locus.warm()
+    if not method.uses_mesh:
+        return
+    rigid = scene.locus.solve(0.0, 0.0)
+    if not rigid.success:
+        return
+    wins = windows(scene, rigid, method, scene.settings.window_gap, False)
+    q0 = np.array([rigid.z_g, rigid.roll])
+    evaluate = _evaluator(scene, wins, method, rigid)
+    evaluate(q0)
+    if CompiledNewton.supports(scene, method):
+        solver = Equilibrium(evaluate, rigid.y, rigid.yaw, q0, scene.equilibrium,
+                             lever=scene.lever, rate=method.indentation_rate,
+                             fast=CompiledNewton(scene, wins, method, rigid))
+        solver.residual(q0, scene.equilibrium.kc0)
+
+
 def _same_nodes(a: dict[str, list[ContactForce]], b: dict[str, list[ContactForce]]) -> bool:
     """True when two evaluations at one pose have, on each wheel, as many contacts made of as
     many wheel and rail nodes: a window holding another's nodes and more finds the same nodes

@@ -16,11 +16,11 @@ from typing import Any
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.methods import METHOD_NAMES, get_method
 from lutmpi.equilibrium.result import NO_CONTACT, PROFILE_END, STATUS, PoseResult
-from lutmpi.pose.mesh import solve_mesh_pose
+from lutmpi.pose.mesh import solve_mesh_pose, warm_rare_paths
 from lutmpi.pose.rigid import rigid_result
 from lutmpi.table.schema import D
 
-__all__ = ["METHOD_NAMES", "POINT_QUANTITIES", "solve_pose"]
+__all__ = ["METHOD_NAMES", "POINT_QUANTITIES", "solve_pose", "warm"]
 
 #: Per-point quantities the pose layer adds to every result, by schema name: a function of
 #: ``(result, rigid, scene)`` each, set as the result's attribute of that name, which
@@ -69,6 +69,14 @@ def solve_pose(
         res.message = f"{STATUS[PROFILE_END]} ({_end_text(rigid)})"
     res.time = time.process_time() - t0
     return res
+
+
+def warm(scene, method: str) -> None:
+    """Load every compiled kernel a pose of ``method`` on ``scene`` may call: one solve, and
+    what only some poses reach (:func:`~lutmpi.pose.mesh.warm_rare_paths`); results are not
+    kept (the solve is pure)."""
+    solve_pose(scene, 0.0, 0.0, method)
+    warm_rare_paths(scene, get_method(method))
 
 
 def _end_text(rigid: RigidSolution) -> str:

@@ -14,7 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from lutmpi.contact.methods import get_method
 from lutmpi.equilibrium.result import SIDES, PoseResult
+from lutmpi.pose.mesh import warm_rare_paths
 from lutmpi.pose.solve import POINT_QUANTITIES, solve_pose
 from lutmpi.table.grid import Grid
 from lutmpi.table.schema import FIELDS_BY_NAME, N_SLOTS, D, Field
@@ -47,6 +49,7 @@ def default_solver() -> Solver:
         if method not in warm:
             warm.add(method)
             solve_pose(scene, y, yaw, method)
+            warm_rare_paths(scene, get_method(method))
         return solve_pose(scene, y, yaw, method)
 
     return solve
