@@ -5,6 +5,7 @@ contact stage, and the pose result. Shared by every :class:`~lutmpi.contact.meth
 
 from __future__ import annotations
 
+import logging
 import time
 
 import numpy as np
@@ -16,7 +17,10 @@ from lutmpi.contact.records import SIDE_SIGN, contact_records
 from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET, WINDOW, PoseResult
 from lutmpi.equilibrium.solver import ContactForce, Equilibrium
+from lutmpi.errors import GeometryError
 from lutmpi.pose.newton import CompiledNewton, contact_force
+
+log = logging.getLogger(__name__)
 
 
 def rotation(yaw: float, roll: float) -> np.ndarray:
@@ -139,22 +143,27 @@ def warm_rare_paths(scene, method) -> None:
     where Newton stalls), the method's stage called from Python (a widened window's check,
     :func:`_same_nodes`) and the locus solver's edge and dip searches. Without this their
     first use in a process loads them from numba's cache (~10-30 ms each) inside that pose's
-    time, or compiles them on a cold cache."""
+    time, or compiles them on a cold cache. Only a speed-up: a scene this pose does not suit
+    (no rigid contact at (0, 0), flange radii the factor refuses) is left unwarmed, and its
+    poses report their own errors."""
     scene.locus.warm()
     if not method.uses_mesh:
         return
     rigid = scene.locus.solve(0.0, 0.0)
     if not rigid.success:
         return
-    wins = windows(scene, rigid, method, scene.settings.window_gap, False)
-    q0 = np.array([rigid.z_g, rigid.roll])
-    evaluate = _evaluator(scene, wins, method, rigid)
-    evaluate(q0)
-    if CompiledNewton.supports(scene, method):
-        solver = Equilibrium(evaluate, rigid.y, rigid.yaw, q0, scene.equilibrium,
-                             lever=scene.lever, rate=method.indentation_rate,
-                             fast=CompiledNewton(scene, wins, method, rigid))
-        solver.residual(q0, scene.equilibrium.kc0)
+    try:
+        wins = windows(scene, rigid, method, scene.settings.window_gap, False)
+        q0 = np.array([rigid.z_g, rigid.roll])
+        evaluate = _evaluator(scene, wins, method, rigid)
+        evaluate(q0)
+        if CompiledNewton.supports(scene, method):
+            solver = Equilibrium(evaluate, rigid.y, rigid.yaw, q0, scene.equilibrium,
+                                 lever=scene.lever, rate=method.indentation_rate,
+                                 fast=CompiledNewton(scene, wins, method, rigid))
+            solver.residual(q0, scene.equilibrium.kc0)
+    except (ValueError, GeometryError) as exc:
+        log.debug("rare paths of %s not warmed: %s", method.name, exc)
 
 
 def _same_nodes(a: dict[str, list[ContactForce]], b: dict[str, list[ContactForce]]) -> bool:

@@ -127,3 +127,18 @@ def test_bracketing_evaluates_compiled_as_in_python(monkeypatch):
         assert got.status == CONVERGED
         _same(got, want)
     assert seen.count(True) >= 2 and seen.count(False) >= 2  # both paths bracketed
+
+
+@pytest.mark.parametrize("method", ["reference", *MESH_METHODS])
+def test_warm_up_changes_no_result(method):
+    # pose.solve.warm loads the rarely reached compiled paths (the build's solver calls it
+    # before its first point): a pose solved before and after it is the same to the bit
+    from lutmpi.pose.solve import solve_pose, warm
+
+    scene = SCENES["soft_flange"]
+    before = solve_pose(scene, 6.0 * MM, 0.03, method)
+    warm(scene, method)
+    scene.locus._memo.clear()
+    after = solve_pose(scene, 6.0 * MM, 0.03, method)
+    assert before.success
+    _same(before, after)
