@@ -14,6 +14,7 @@ from lutmpi.contact.kernels import locus_at_slices
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.mesh import Window, build_window
 from lutmpi.contact.records import SIDE_SIGN, contact_records
+from lutmpi.contact.rigid_kernels import rotation
 from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, STATUS, TIME_BUDGET, WINDOW, PoseResult
 from lutmpi.equilibrium.solver import ContactForce, Equilibrium
@@ -21,16 +22,6 @@ from lutmpi.errors import GeometryError
 from lutmpi.pose.newton import CompiledNewton, contact_force
 
 log = logging.getLogger(__name__)
-
-
-def rotation(yaw: float, roll: float) -> np.ndarray:
-    """``R = Rz(yaw) Rx(roll)`` in closed form: the same bits as
-    :func:`lutmpi.geometry.pose.wheelset_rotation` with zero pitch (``+ 0.0`` turns the signed
-    zeros of the products into the matrix product's; tested), at a fifth of its cost."""
-    cy, sy, cr, sr = np.cos(yaw), np.sin(yaw), np.cos(roll), np.sin(roll)
-    return np.array([[cy, -sy * cr + 0.0, sy * sr + 0.0],
-                     [sy + 0.0, cy * cr, -cy * sr + 0.0],
-                     [0.0, sr + 0.0, cr]])
 
 
 def flange_factor(scene, name: str, s: float) -> float:

@@ -27,7 +27,7 @@ from numba import njit, objmode
 from lutmpi.contact.kernels import COLUMNS, Pose
 from lutmpi.contact.methods import load_centre, max_distance, max_normal_distance
 from lutmpi.contact.methods.base import MeshContact
-from lutmpi.contact.rigid_kernels import pose_rotation
+from lutmpi.contact.rigid_kernels import rotation
 from lutmpi.contact.stiffness import check_flange, flange_factor_at
 from lutmpi.equilibrium.result import MAX_ITER, TIME_BUDGET
 from lutmpi.equilibrium.solver import (
@@ -88,7 +88,7 @@ def _evaluate(t, q, kc, ctx, state, rated):
      left, right, fl_l, fl_r, lever, rtol, fmin, qtol, allowed) = ctx
     qs, Rs, rows, facs, counts = state
     qs[t, 0], qs[t, 1] = q[0], q[1]
-    pose = Pose(np.array([0.0, y, q[0]]), pose_rotation(yaw, q[1]))
+    pose = Pose(np.array([0.0, y, q[0]]), rotation(yaw, q[1]))
     counts[t, 0] = _side(kid, left[0], left[1], left[2], pose, max_contacts, flange, fl_l,
                          rows[t, 0], facs[t, 0])
     counts[t, 1] = _side(kid, right[0], right[1], right[2], pose, max_contacts, flange, fl_r,

@@ -10,7 +10,6 @@ import pytest
 from lutmpi.config.model import ALL_METHODS, CONTACT_METHODS
 from lutmpi.contact.methods import METHODS, get_method
 from lutmpi.contact.methods.base import MeshMethod
-from lutmpi.contact.rigid_kernels import pose_rotation
 from lutmpi.geometry.pose import wheelset_rotation
 from lutmpi.pose.mesh import rotation
 from lutmpi.pose.solve import solve_pose
@@ -47,9 +46,7 @@ def test_rotation_is_the_geometry_rotation_bit_for_bit():
     for yaw, roll in zip(yaws, rolls, strict=True):
         want = wheelset_rotation(yaw, roll).tobytes()
         assert rotation(yaw, roll).tobytes() == want, (yaw, roll)
-        assert pose_rotation(yaw, roll).tobytes() == want, (yaw, roll)  # the compiled twin
     for yaw in (0.0, -0.0, 0.05):
         for roll in (0.0, -0.0, 1e-3):
             want = wheelset_rotation(yaw, roll).tobytes()
             assert rotation(yaw, roll).tobytes() == want
-            assert pose_rotation(yaw, roll).tobytes() == want
