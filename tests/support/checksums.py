@@ -32,9 +32,10 @@ quantity but k_c and force, whose 1e-9 is below their last bits); re-derived whe
 whole-profile gaps took the locus angle's sine and cosine by the angle-sum identity, as the
 roll scan already did (issue 14: rigid roots moved within the solver's 1e-13 rad tolerance,
 the reference's evaluation count by one in 324 paper and 224 Manchester poses; the mesh
-methods' k_c by up to 5e-2 N/m of 5e10; the load centre moved in 1 paper pose, the same one
-and by the same 13 um / 5e-4 rad as at the first re-derivation, and in 13 Manchester poses by
-up to 0.6 um / 4e-7 rad: flange contacts whose k_c iteration ends on another node).
+methods' k_c by up to 5e-2 N/m of 5e10; the load centre moved in 1 paper pose (y = -5.5 mm,
+yaw -0.06 rad, one that brackets), by 13 um / 5e-4 rad as at the first re-derivation, and in 13
+Manchester poses by up to 0.6 um / 4e-7 rad: flange contacts whose k_c iteration ends on
+another node).
 """
 
 from __future__ import annotations
