@@ -12,10 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from lutmpi.geometry.track import CURV_BASE
 from lutmpi.profiles.spline import ppoly_at
 
 SIDE_SIGN = {"left": 1.0, "right": -1.0}
+CURV_BASE = 2.5e-4  # m, half base of the transverse curvature estimate (_chord)
 
 
 @dataclass
@@ -88,9 +88,11 @@ def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
 
 @njit(cache=True)
 def _chord(x, lo_b, hi_b, h, c, xs, c1, x1):
-    """:func:`lutmpi.geometry.track._chord_curvature` at one point ``x`` of a curve (spline
-    ``c, xs``, slope ``c1, x1``) defined on ``[lo_b, hi_b]``: the change of the normal's angle
-    over ``x ± h`` (clipped to the curve) over the chord, 1/m, positive where convex."""
+    """Transverse curvature at ``x`` of a curve (spline ``c, xs``, slope ``c1, x1``) defined
+    on ``[lo_b, hi_b]``, 1/m, positive where convex (a rail's crown, a wheel's flange tip): the
+    change of the normal's angle over ``x ± h`` (clipped to the curve) over the chord, so that
+    the joints of a profile made of arcs (UIC60: R300/R80/R13) give the mean of the two arcs
+    instead of the ringing of a spline's second derivative."""
     lo = min(max(x - h, lo_b), hi_b)
     hi = min(max(x + h, lo_b), hi_b)
     a = np.arctan(ppoly_at(c1, x1, hi)) - np.arctan(ppoly_at(c1, x1, lo))
@@ -103,12 +105,13 @@ def record_geometry(sgn, rp_y, rp_z, s, n_y, n_z, wpp, r0, s_min, s_max, rpp, ra
     """The stored geometry of contacts (side signs ``sgn``; rail points' ``y, z``, m; wheel
     profile coordinates ``s``, m; the normals' ``y, z``): per contact, in this order, the
     :class:`ContactResult` attributes rolling radius, contact angle, rail profile coordinate,
-    wheel rolling curvature, wheel and rail transverse curvatures, as
-    :meth:`~lutmpi.geometry.track.WheelGeometry.contact_geometry`,
-    :meth:`~lutmpi.geometry.track.PlacedRail.profile_coordinate` and ``convex_curvature``
-    compute them. ``wpp``, ``rpp``: ``(c, x, c1, x1)`` of the wheel profile and the placed
-    rail (their ``ppolys``); ``rail_geo``: ``(u_min, u_max, gauge, v_gp, w_top,
-    inclination)`` (m, rad); ``h``: the curvature's half base (m)."""
+    wheel rolling curvature (Meusnier: ``cos(slope) / r``), wheel and rail transverse
+    curvatures (:func:`_chord`, the rail's at its point clipped to the rail), the rail profile
+    coordinate ``v`` being the placed point mapped back through the rail's placement
+    (:meth:`~lutmpi.geometry.track.PlacedRail.place`). ``wpp``, ``rpp``: ``(c, x, c1, x1)``
+    of the wheel profile and the placed rail (their ``ppolys``); ``rail_geo``: ``(u_min,
+    u_max, gauge, v_gp, w_top, inclination)`` (m, rad); ``h``: the curvature's half base
+    (m)."""
     zc, zx, dc, dx = wpp
     rc, rx, rdc, rdx = rpp
     u_min, u_max, gauge, v_gp, w_top, incl = rail_geo

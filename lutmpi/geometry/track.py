@@ -31,22 +31,10 @@ from lutmpi.profiles.spline import fast
 SIDES = {"left": 1.0, "right": -1.0}
 MAX_SLOPE_DEG = 85.0  # profile parts steeper than this are never contact candidates
 _SAMPLE = 5e-5  # m, resampling step when rotating a profile
-CURV_BASE = 2.5e-4  # m, half base of the curvature estimate
 
 
 def _arc_length(x: np.ndarray, z: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
-
-
-def _chord_curvature(lo: np.ndarray, hi: np.ndarray, z: np.ndarray, dz: np.ndarray
-                     ) -> np.ndarray:
-    """Change of the normal's angle from ``lo`` to ``hi`` over the chord between them, 1/m,
-    positive where convex; ``z`` and ``dz``: the curve and its slope at ``[lo, hi]`` (one
-    evaluation for both ends: a spline call costs more than its arithmetic)."""
-    n = lo.size
-    a = np.arctan(dz[n:]) - np.arctan(dz[:n])
-    span = np.hypot(hi.ravel() - lo.ravel(), z[n:] - z[:n])
-    return (-a / np.where(span > 0, span, np.inf)).reshape(lo.shape)
 
 
 def _contiguous_slope_range(slope: np.ndarray, i0: int, limit: float) -> tuple[int, int]:
@@ -191,24 +179,6 @@ class PlacedRail:
     def slope(self, u: np.ndarray | float) -> np.ndarray:
         return self._d1(u)
 
-    def convex_curvature(self, u: np.ndarray | float, h: float = CURV_BASE) -> np.ndarray:
-        """Transverse curvature of the rail surface, 1/m, positive where convex (crown): the
-        change of the normal's angle over ``u ± h`` (``h`` = 0.25 mm), so that the joints of a
-        profile made of arcs (UIC60: R300/R80/R13) give the mean of the two arcs instead of the
-        ringing of a spline's second derivative."""
-        u = np.asarray(u, dtype=float)
-        lo = np.minimum(np.maximum(u - h, self.u_min), self.u_max)  # np.clip, without its
-        hi = np.minimum(np.maximum(u + h, self.u_min), self.u_max)  # overhead on a few points
-        at = np.concatenate([lo.ravel(), hi.ravel()])
-        return _chord_curvature(lo, hi, self._spl(at), self._d1(at))
-
-    def profile_coordinate(self, u: np.ndarray | float, z: np.ndarray | float) -> np.ndarray:
-        """Map placed (u, z) back to the rail profile's own lateral coordinate v (m)."""
-        vp = np.asarray(u) - 0.5 * self.gauge + self.v_gp
-        wp = np.asarray(z) + self.w_top
-        cd, sd = np.cos(self.inclination), np.sin(self.inclination)
-        return vp * cd + wp * sd
-
 
 @dataclass(frozen=True, eq=False)
 class WheelGeometry:
@@ -251,24 +221,6 @@ class WheelGeometry:
 
     def dr(self, s: np.ndarray | float) -> np.ndarray:
         return self.profile.slope(s)
-
-    def convex_curvature(self, s: np.ndarray | float, h: float = CURV_BASE) -> np.ndarray:
-        """Transverse curvature of the wheel surface, 1/m, positive where convex (flange tip):
-        the change of the normal's angle over ``s ± h`` (see ``PlacedRail.convex_curvature``)."""
-        return self.contact_geometry(s, h)[2]
-
-    def contact_geometry(self, s: np.ndarray | float, h: float = CURV_BASE
-                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Radius (m), slope ``dr/ds`` and :meth:`convex_curvature` (1/m) at ``s``, from one
-        evaluation of the profile and one of its slope."""
-        s = np.asarray(s, dtype=float)
-        lo = np.minimum(np.maximum(s - h, self.s_min), self.s_max)
-        hi = np.minimum(np.maximum(s + h, self.s_min), self.s_max)
-        at = np.concatenate([s.ravel(), lo.ravel(), hi.ravel()])
-        z, dz = self.profile.z_at(at), self.profile.slope(at)
-        n = s.size
-        curv = _chord_curvature(lo, hi, z[n:], dz[n:])
-        return (self.r0 + z[:n]).reshape(s.shape), dz[:n].reshape(s.shape), curv
 
     def flange_tip_radius(self) -> float:
         s = np.linspace(self.s_min, 0.0, 4000)

@@ -161,19 +161,43 @@ def refine_contact(sd, loc, i: int, centre: np.ndarray, R: np.ndarray) -> RigidC
                         gap=gmin, at_end=sd.at_end(g, i))
 
 
+def _chord_curvature(lo: np.ndarray, hi: np.ndarray, z: np.ndarray, dz: np.ndarray
+                     ) -> np.ndarray:
+    """Change of the normal's angle from ``lo`` to ``hi`` over the chord, 1/m; ``z``, ``dz``:
+    the curve and its slope at ``[lo, hi]``."""
+    n = lo.size
+    a = np.arctan(dz[n:]) - np.arctan(dz[:n])
+    span = np.hypot(hi - lo, z[n:] - z[:n])
+    return -a / np.where(span > 0, span, np.inf)
+
+
 def record_geometry(sd, side: np.ndarray, rp: np.ndarray, s: np.ndarray,
-                    normals: np.ndarray) -> np.ndarray:
-    """The stored geometry of contacts by the geometry's own (numpy) methods, as
-    :mod:`lutmpi.contact.records` computed it before it was compiled (issue 14): the oracle of
-    :func:`lutmpi.contact.records.record_geometry` (its columns)."""
+                    normals: np.ndarray, h: float) -> np.ndarray:
+    """The stored geometry of contacts in numpy, as :mod:`lutmpi.contact.records` computed it
+    (through the geometry's former methods ``contact_geometry``, ``profile_coordinate`` and
+    ``convex_curvature``) before it was compiled (issue 14): the oracle of
+    :func:`lutmpi.contact.records.record_geometry` (its columns; ``h``: the curvature's half
+    base, m)."""
     wheel, rail = sd.wheel, sd.rail
+    # the wheel: radius, slope and chord curvature over s +- h (clipped to the wheel)
+    lo = np.minimum(np.maximum(s - h, wheel.s_min), wheel.s_max)
+    hi = np.minimum(np.maximum(s + h, wheel.s_min), wheel.s_max)
+    at = np.concatenate([s, lo, hi])
+    z, dz = wheel.profile.z_at(at), wheel.profile.slope(at)
+    n = s.size
+    rad, dr, cw = wheel.r0 + z[:n], dz[:n], _chord_curvature(lo, hi, z[n:], dz[n:])
+    # the rail: v through the placement, chord curvature at the point clipped to the rail
     u_r = side * rp[:, 1]
-    rad, dr, cw = wheel.contact_geometry(s)
-    v = rail.profile_coordinate(u_r, rp[:, 2])
-    cr = rail.convex_curvature(np.minimum(np.maximum(u_r, rail.u_min), rail.u_max))
+    v = ((u_r - 0.5 * rail.gauge + rail.v_gp) * np.cos(rail.inclination)
+         + (rp[:, 2] + rail.w_top) * np.sin(rail.inclination))
+    uc = np.minimum(np.maximum(u_r, rail.u_min), rail.u_max)
+    lo = np.minimum(np.maximum(uc - h, rail.u_min), rail.u_max)
+    hi = np.minimum(np.maximum(uc + h, rail.u_min), rail.u_max)
+    at = np.concatenate([lo, hi])
+    cr = _chord_curvature(lo, hi, rail.height(at), rail.slope(at))
     out = np.empty((s.size, 6))
     for i in range(s.size):
-        sg, n, r, d = side[i], normals[i], float(rad[i]), float(dr[i])
-        out[i] = (r, float(np.arctan2(-sg * n[1], n[2])), float(v[i]),
+        sg, nv, r, d = side[i], normals[i], float(rad[i]), float(dr[i])
+        out[i] = (r, float(np.arctan2(-sg * nv[1], nv[2])), float(v[i]),
                   1.0 / (r * np.sqrt(1.0 + d * d)), float(cw[i]), float(cr[i]))
     return out

@@ -1,5 +1,5 @@
 """The stored per-contact geometry computed compiled (:func:`lutmpi.contact.records.
-record_geometry`, issue 14) against the geometry's own numpy methods (the form it replaced,
+record_geometry`, issue 14) against the numpy form it replaced (the geometry's former methods,
 ``tests/support/locus_oracle.record_geometry``): rolling radius, contact angle, rail profile
 coordinate and the three curvatures, on both sides of an asymmetric pair (a worn left wheel),
 over wheel points from flange to field side, rail points near the rail's ends (the
@@ -11,8 +11,7 @@ import math
 
 import numpy as np
 
-from lutmpi.contact.records import record_geometry
-from lutmpi.geometry.track import CURV_BASE
+from lutmpi.contact.records import CURV_BASE, record_geometry
 from lutmpi.profiles.standard import s1002, uic60
 from lutmpi.profiles.wear import flange_thinning
 from lutmpi.scene import Scene
@@ -42,7 +41,7 @@ def test_compiled_record_geometry_equals_the_geometry_methods():
         side = np.full(n, sgn)
         rp = np.column_stack([rng.uniform(-0.02, 0.02, n), sgn * u, rng.uniform(-0.03, 0.0, n)])
         nrm = np.column_stack([np.zeros(n), -sgn * np.sin(ang), np.cos(ang)])
-        want = oracle(sd, side, rp, s, nrm)
+        want = oracle(sd, side, rp, s, nrm, CURV_BASE)
         got = record_geometry(side, rp[:, 1].copy(), rp[:, 2].copy(), s, nrm[:, 1].copy(),
                               nrm[:, 2].copy(), wheel.profile.ppolys, wheel.r0, wheel.s_min,
                               wheel.s_max, rail.ppolys,
