@@ -35,6 +35,7 @@ from lutmpi.equilibrium.solver import (
     ContactForce,
     assemble,
     noise_tol,
+    solve2,
     step_cap,
 )
 
@@ -165,10 +166,10 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
         top = np.nan if (np.isnan(a0) or np.isnan(a1)) else max(a0, a1)
         if top <= rtol:
             return True, 0, nit, cur, last
-        try:
-            dq = -np.linalg.solve(J, R)
-        except Exception:  # noqa: BLE001 - numba raises LinAlgError, as numpy
+        solved, dq = solve2(J, R)
+        if not solved:
             return False, 0, nit, cur, last
+        dq = -dq
         cap = step_cap(kc, load, fmin)
         scale = abs(dq[0]) / cap
         b = abs(dq[1]) * lever / cap
@@ -274,12 +275,11 @@ class CompiledNewton:
         """:meth:`Equilibrium.residual` of ``solver`` (the bracketing's evaluations) by the
         compiled evaluation: its budgets checked first, its count and last evaluation kept;
         returns ``(R, J, contacts)``."""
-        status = _budget(int(solver.nit), int(self._eq.max_iterations), float(solver.deadline))
+        status, solver.nit, J = _counted(0, np.asarray(q, dtype=float), float(kc),
+                                         self._ctx(solver), self.state, int(solver.nit),
+                                         int(self._eq.max_iterations), float(solver.deadline))
         if status:
             raise BudgetExceededError(status)
-        solver.nit += 1
-        J = _evaluate(0, np.asarray(q, dtype=float), float(kc), self._ctx(solver), self.state,
-                      False)
         R, cs = self.state[1][0].copy(), self.forces(0)
         solver._last = (q, R, cs)
         return R, J, cs
