@@ -95,9 +95,10 @@ MUTATIONS: tuple[Mutation, ...] = (
       "            (WP[g, 0] - RP[g, 0]) * nwv[0]", "            (RP[g, 0] - WP[g, 0]) * nwv[0]",
       CONTACT, "eq. (7): x term of the load-centre indentation with the wrong sign"),
     M("intersect_ineq", "contact methods", "lutmpi/contact/kernels.py",
-      "inside[i] = (v1 * nj1 + v2 * nj2 >= 0.0) and (vni <= 0.0)",
-      "inside[i] = (v1 * nj1 + v2 * nj2 >= 0.0) or (vni <= 0.0)", CONTACT,
-      "eq. (2): a node is in V_int when either inequality holds"),
+      "        if not v1 * nj1 + v2 * nj2 >= 0.0:\n",
+      "        if False:\n", CONTACT,
+      "eq. (2): the rail-side inequality dropped (a node is in V_int when the wheel-side one "
+      "holds)"),
     # -- the k_c iteration and the zero-indentation extrapolation ------------------------------
     M("kc_criterion", "k_c iteration", "lutmpi/equilibrium/solver.py",
       "            if cmax <= o.allowed_indentation:",

@@ -189,16 +189,19 @@ def search_wheel_nodes(win, rail, pose):
                 + R[a, 1] * body_pts[i, 1]
                 + R[a, 2] * body_pts[i, 2]
             )
-            N[i, a] = R[a, 0] * body_nrm[i, 0] + R[a, 1] * body_nrm[i, 1] + R[a, 2] * body_nrm[i, 2]
         u = side * P[i, 1]
         lj, pos = nearest_from(u, P[i, 2], ru, rz, K_NEAR, pos)
-        Pj[i, 0] = np.round(P[i, 0] / h_x) * h_x
         Pj[i, 1] = side * ru[lj]
         Pj[i, 2] = rz[lj]
+        v1, v2 = Pj[i, 1] - P[i, 1], Pj[i, 2] - P[i, 2]
         nj1, nj2 = side * rail.nu[lj], rail.nz[lj]
-        v0, v1, v2 = Pj[i, 0] - P[i, 0], Pj[i, 1] - P[i, 1], Pj[i, 2] - P[i, 2]
-        vni = v0 * N[i, 0] + v1 * N[i, 1] + v2 * N[i, 2]
-        inside[i] = (v1 * nj1 + v2 * nj2 >= 0.0) and (vni <= 0.0)  # eq. (2)
+        if not v1 * nj1 + v2 * nj2 >= 0.0:
+            continue  # eq. (2), rail side: outside (N and Pj's x are read only inside)
+        for a in range(3):
+            N[i, a] = R[a, 0] * body_nrm[i, 0] + R[a, 1] * body_nrm[i, 1] + R[a, 2] * body_nrm[i, 2]
+        Pj[i, 0] = np.round(P[i, 0] / h_x) * h_x
+        v0 = Pj[i, 0] - P[i, 0]
+        inside[i] = v0 * N[i, 0] + v1 * N[i, 1] + v2 * N[i, 2] <= 0.0  # eq. (2), wheel side
     # §4.6: a new volume wherever a whole slice between two V_int nodes is outside
     vol = np.full(nw, -1)
     nvol = 0
