@@ -259,12 +259,22 @@ def _search(lo: float, rlo: Record, hi: float, rhi: Record, solve: Callable[[flo
     return left + [found] + right
 
 
+def _primaries(recs: Sequence[Record], name: str) -> list[list[float]]:
+    """Per wheel, a per-contact quantity's primary contact in each of ``recs`` (Python floats:
+    the refinement's bookkeeping runs for every pose it solves, and numpy's per-call cost on
+    a few values was most of it)."""
+    cols = [np.asarray(r[name], float)[:, 0].tolist() for r in recs]
+    return [[c[s] for c in cols] for s in range(2)]
+
+
 def _primary_max(recs: Sequence[Record], name: str) -> np.ndarray:
     """Per wheel, the largest magnitude of a per-contact quantity's primary contact over
-    ``recs`` (NaN where no record has it; shape (2,))."""
-    v = np.stack([np.abs(np.asarray(r[name], float)[:, 0]) for r in recs])
-    return np.where(np.isfinite(v).any(axis=0), np.nanmax(np.where(np.isfinite(v), v, -1.0),
-                                                          axis=0), np.nan)
+    ``recs`` (NaN where no record has a finite one; shape (2,))."""
+    out = []
+    for vals in _primaries(recs, name):
+        fin = [abs(v) for v in vals if math.isfinite(v)]
+        out.append(max(fin) if fin else math.nan)
+    return np.array(out)
 
 
 def tolerances(recs: Sequence[Record], mesh: MeshResolution | None) -> dict[str, Any]:
@@ -304,13 +314,18 @@ def tolerances(recs: Sequence[Record], mesh: MeshResolution | None) -> dict[str,
     if mesh.centroid:
         if D.indentation not in names:
             return tol
-        krel = np.stack([np.asarray(r[D.curv_wheel_transverse], float)[:, 0]
-                         + np.asarray(r[D.curv_rail_transverse], float)[:, 0] for r in recs])
-        delta = np.stack([np.asarray(r[D.indentation], float)[:, 0] for r in recs])
-        with np.errstate(invalid="ignore", divide="ignore"):
-            half = np.sqrt(2.0 * delta / krel)           # patch half-width, m (NaN: conformal)
-        half = np.where(np.isfinite(half), half, np.inf).min(axis=0)
-        n = np.maximum(1.0, 2.0 * half / np.minimum(hw, hr))
+        half = []
+        for kws, krs, deltas in zip(_primaries(recs, D.curv_wheel_transverse),
+                                    _primaries(recs, D.curv_rail_transverse),
+                                    _primaries(recs, D.indentation), strict=True):
+            best = math.inf
+            for kw_, kr_, delta in zip(kws, krs, deltas, strict=True):
+                krel = kw_ + kr_
+                q = 2.0 * delta / krel if krel != 0.0 else math.nan
+                if math.isfinite(q) and q >= 0.0:       # else NaN or inf: conformal
+                    best = min(best, math.sqrt(q))      # patch half-width, m
+            half.append(best)
+        n = np.maximum(1.0, 2.0 * np.array(half) / np.minimum(hw, hr))
     if D.contact_angle in names:
         gamma = np.minimum(_primary_max(recs, D.contact_angle), 0.5 * math.pi)
         tol[D.rolling_radius] = np.fmax(REFINE_TOL[D.rolling_radius],
@@ -328,13 +343,16 @@ def _miss(r0: Record, r1: Record, rm: Record, tols: dict[str, Any]) -> float:
     for name in REFINE_TOL:
         if name not in rm:
             continue
-        a, b, m = (np.asarray(r[name], float) for r in (r0, r1, rm))
-        if a.ndim:                       # per contact: the primary contact of each wheel
-            a, b, m = a[:, 0], b[:, 0], m[:, 0]
-        d = np.abs(0.5 * (a + b) - m) / tols[name]
-        d = d[np.isfinite(d)]
-        if d.size:
-            worst = max(worst, float(d.max()))
+        if np.ndim(rm[name]):            # per contact: the primary contact of each wheel
+            tol = np.broadcast_to(tols[name], (2,)).tolist()
+            rows = [(*vals, t) for vals, t in zip(_primaries((r0, r1, rm), name), tol,
+                                                   strict=True)]
+        else:
+            rows = [(float(r0[name]), float(r1[name]), float(rm[name]), float(tols[name]))]
+        for a, b, m, t in rows:          # Python floats: the same arithmetic as on arrays
+            d = abs(0.5 * (a + b) - m) / t
+            if math.isfinite(d):
+                worst = max(worst, d)
     return worst
 
 
