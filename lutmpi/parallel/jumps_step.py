@@ -3,9 +3,12 @@ attributes the dynamics reads (issues 11 and 15).
 
 Runs on every rank once the grid is complete and written (one call from
 :func:`lutmpi.parallel.runner.build_table`). Each rank holds its row block; the blocks are shared
-(the table is small next to the solves), every rank lists the same candidate cells, refines a
-cyclic share of them with direct solves (:func:`lutmpi.table.jumps.refine_cell`, pure), and the
-found jumps are gathered in cell order: the result is the same for any number of ranks.
+(the table is small next to the solves), every rank lists the same candidate cells and takes
+them one at a time from a shared counter (:mod:`lutmpi.parallel.workqueue`, as the grid's points;
+a static split with ``--split``), refines each with direct solves
+(:func:`lutmpi.table.jumps.refine_cell`, pure), and the found jumps are gathered in cell order;
+the refinement intervals that follow are handed out alike. The result is the same for any number
+of ranks and any hand-out.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from lutmpi.parallel import partition
+from lutmpi.parallel.workqueue import make_counter
 from lutmpi.table import h5io
 from lutmpi.table import interp as _interp
 from lutmpi.table import jumps as _jumps
@@ -39,7 +43,7 @@ def _all_rows(comm: Any, row_start: int, blocks: dict[str, dict[str, np.ndarray]
 
 def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
               methods: tuple[str, ...], fields: Any, f: Any, io: Any, row_start: int,
-              blocks: dict[str, dict[str, np.ndarray]]) -> None:
+              blocks: dict[str, dict[str, np.ndarray]], split: str = "dynamic") -> None:
     """Locate, refine and write the jumps of every method, and the dynamics attributes.
 
     Parameters
@@ -53,6 +57,9 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         The writer's HDF5 strategy.
     row_start, blocks
         This rank's complete row block (method -> name -> array).
+    split : str
+        How cells and intervals are handed out: ``"dynamic"`` (a shared counter) or a static
+        split of :mod:`lutmpi.parallel.partition`; the build's ``--split``.
     """
     from lutmpi.scene_config import side_profiles
     from lutmpi.table.api import mask_failed
@@ -68,7 +75,8 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
             return pose_to_record(solver(scene, y, yaw, method), lfields)
 
         mesh = mesh_resolution(scene, method)
-        js, n_cells = _locate(comm, grid, arrays, solve, lfields, config.output.refine, mesh)
+        js, n_cells = _locate(comm, grid, arrays, solve, lfields, config.output.refine, mesh,
+                              split)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
@@ -107,11 +115,24 @@ def mesh_resolution(scene: Any, method: str) -> _jumps.MeshResolution | None:
                   for n in SIDES]), m.centroid)
 
 
-def _share(comm: Any, items: list[Any], work: Any) -> list[Any]:
-    """``work(item)`` for a cyclic share of ``items`` on each rank; every rank gets all results
-    in item order (the pose records in them travel as columns: :func:`_pack`)."""
-    mine = partition.split(len(items), comm.size, comm.rank, "cyclic")
-    done = [(int(k), work(items[k])) for k in mine]
+def _share(comm: Any, items: list[Any], work: Any, split: str = "dynamic") -> list[Any]:
+    """``work(item)`` for ``items`` shared among the ranks; every rank gets all results in item
+    order (the pose records in them travel as columns: :func:`_pack`).
+
+    ``"dynamic"``: a rank takes the next item whenever it is free (a shared counter). An item
+    costs from one solve to ~50 (a cell's bisections, an interval's refinement), so a static
+    share leaves ranks idle: on the Manchester table's 37 x 9 jump step, counted in solves, a
+    cyclic share keeps 16 ranks 84 % busy and the counter 95 % (BENCHMARKS.md). A static
+    ``split`` of :mod:`lutmpi.parallel.partition` otherwise."""
+    if split == "dynamic":
+        counter = make_counter(comm)
+        done = []
+        while (k := counter.next()) < len(items):
+            done.append((k, work(items[k])))
+        counter.free()  # collective: not on an error, which ends the job (the CLI aborts)
+    else:
+        done = [(int(k), work(items[k]))
+                for k in partition.split(len(items), comm.size, comm.rank, split)]
     if comm.size > 1:
         parts = comm.bcast(comm.gather(_pack(done), root=0), root=0)
         done = [it for part in parts for it in _unpack(*part)]
@@ -137,7 +158,9 @@ def _map_records(obj: Any, fn: Any) -> Any:
 def _pack(obj: Any) -> tuple[Any, dict[str, np.ndarray]]:
     """``obj`` as a skeleton whose pose records are :class:`_Ref` rows, and the records stacked
     per name. Sent between ranks, thousands of records pickled one by one cost seconds; their
-    columns do not."""
+    columns do not. Only the names every record has are sent: a grid node's record (a bracket
+    end the bisection kept) also holds the timing fields a solved one leaves out, and nothing
+    after the transport reads more than the limit fields both hold."""
     recs: list[dict[str, np.ndarray]] = []
 
     def ref(rec: dict[str, np.ndarray]) -> _Ref:
@@ -145,7 +168,7 @@ def _pack(obj: Any) -> tuple[Any, dict[str, np.ndarray]]:
         return _Ref(len(recs) - 1)
 
     skeleton = _map_records(obj, ref)
-    names = list(recs[0]) if recs else []
+    names = [n for n in recs[0] if all(n in r for r in recs)] if recs else []
     return skeleton, {n: np.stack([np.asarray(r[n]) for r in recs]) for n in names}
 
 
@@ -155,12 +178,14 @@ def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
 
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
-            refine: bool, mesh: _jumps.MeshResolution | None) -> tuple[_jumps.JumpSet, int]:
+            refine: bool, mesh: _jumps.MeshResolution | None, split: str = "dynamic"
+            ) -> tuple[_jumps.JumpSet, int]:
     """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
     interval, both shared among the ranks."""
     t0 = time.perf_counter()
     cells = _jumps.candidate_cells(arrays)
-    res = _share(comm, cells, lambda c: _jumps.refine_cell(arrays, grid.y, grid.yaw, c, solve))
+    res = _share(comm, cells, lambda c: _jumps.refine_cell(arrays, grid.y, grid.yaw, c, solve),
+                 split)
     t1 = time.perf_counter()
     found = [jp for jps, _ in res for jp in jps]
     extra = [(c[0], y, r) for c, (_, samples) in zip(cells, res, strict=True) for y, r in samples]
@@ -170,7 +195,7 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
                                     [(y, r) for jj, y, r in extra if jj == j])
         items += [(j, knots[k], knots[k + 1]) for k in _jumps.refinement_items(knots)]
     refined = _share(comm, items, lambda it: _jumps.refine_interval(
-        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve, mesh=mesh))
+        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve, mesh=mesh), split)
     log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),
               t1 - t0, len(items), time.perf_counter() - t1)
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]

@@ -400,3 +400,21 @@ def test_records_cross_ranks_as_columns_unchanged():
         for name in want:
             a, b = np.asarray(want[name]), np.asarray(got[name])
             assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def test_records_of_grid_nodes_and_solves_cross_ranks_together():
+    """A bracket end the bisection kept is a grid node's record, with the timing fields a
+    solved record leaves out; a rank's share can start with either. The transport sends the
+    names all its records hold (it raised KeyError when a grid node's record came first)."""
+    from lutmpi.parallel import jumps_step as js
+
+    solved = [flange_record(0.47 + 1e-6 * k) for k in range(3)]
+    node = dict(solved[0], compute_time=np.float64(1e-3))
+    jump = tj.Jump(0, 1e-3, 1.005e-3, node, solved[1], 1, 1)
+    for done in ([(0, ([jump], [(1e-3, solved[2])]))],                # the node's record first
+                 [(0, ([], [(1e-3, solved[2])])), (1, ([jump], []))]):  # a solved one first
+        back = js._unpack(*js._pack(done))
+        jp = next(j for _, (jps, _) in back for j in jps)
+        assert set(jp.rec_lo) == set(solved[0])
+        assert jp.rec_lo["z_g"].tobytes() == node["z_g"].tobytes()
+        assert jp.rec_hi["rolling_radius"].tobytes() == solved[1]["rolling_radius"].tobytes()
