@@ -121,8 +121,8 @@ def _share(comm: Any, items: list[Any], work: Any, split: str = "dynamic") -> li
 
     ``"dynamic"``: a rank takes the next item whenever it is free (a shared counter). An item
     costs from one solve to ~50 (a cell's bisections, an interval's refinement), so a static
-    share leaves ranks idle: on the Manchester table's 37 x 9 jump step, counted in solves, a
-    cyclic share keeps 16 ranks 84 % busy and the counter 95 % (BENCHMARKS.md). A static
+    share leaves ranks idle: on the Manchester table's jump step (37 x 37), counted in solves,
+    a cyclic share keeps 16 ranks 92 % busy and the counter 99 % (BENCHMARKS.md). A static
     ``split`` of :mod:`lutmpi.parallel.partition` otherwise."""
     if split == "dynamic":
         counter = make_counter(comm)
