@@ -39,25 +39,54 @@ def result_attribute(name: str) -> str:
     return ATTRIBUTE_OF.get(name, name)
 
 
-def default_solver() -> Solver:
-    """The production solver. Its first call per method in a process loads the compiled
-    kernels (numba's cache, ~0.3 s); that call is made once more so the one-off cost does not
-    enter the first point's ``compute_time`` (results are identical: the solve is pure)."""
-    warm: set[str] = set()
+class PoseSolver:
+    """The production solver, :func:`lutmpi.pose.solve.solve_pose`, whose compiled kernels are
+    loaded (numba's cache, ~0.3 s) by :meth:`warm` once per method and process, outside any
+    pose's time: the first call of a method warms it unless the caller already did (results
+    are identical: the solve is pure).
 
-    def solve(scene, y: float, yaw: float, method: str) -> PoseResult:
-        if method not in warm:
-            warm.add(method)
-            solve_pose(scene, y, yaw, method)
-            warm_rare_paths(scene, get_method(method))
+    Attributes
+    ----------
+    warm_s : float
+        Time spent warming so far, s.
+    """
+
+    def __init__(self) -> None:
+        self._warm: set[str] = set()
+        self.warm_s = 0.0
+
+    def warm(self, scene: Any, method: str, y: float = 0.0, yaw: float = 0.0) -> None:
+        """Load ``method``'s compiled kernels, its rarely reached paths included (once), by a
+        solve at ``(y, yaw)`` (m, rad) whose result is dropped."""
+        if method in self._warm:
+            return
+        t0 = time.perf_counter()
+        self._warm.add(method)
+        solve_pose(scene, y, yaw, method)
+        warm_rare_paths(scene, get_method(method))
+        self.warm_s += time.perf_counter() - t0
+
+    def __call__(self, scene: Any, y: float, yaw: float, method: str) -> PoseResult:
+        self.warm(scene, method, y, yaw)
         return solve_pose(scene, y, yaw, method)
 
-    return solve
+
+def default_solver() -> PoseSolver:
+    """The production solver (:class:`PoseSolver`)."""
+    return PoseSolver()
 
 
 def empty_records(fields: Sequence[Field], methods: Iterable[str], n: int) -> Records:
     """Fill-valued records for ``n`` points of every method."""
-    return {m: {f.name: f.empty((n,)) for f in fields} for m in methods}
+    template = _empty_template(tuple(fields), n)
+    return {m: {name: arr.copy() for name, arr in template.items()} for m in methods}
+
+
+@functools.lru_cache(maxsize=16)
+def _empty_template(fields: tuple[Field, ...], n: int) -> dict[str, np.ndarray]:
+    """Fill-valued arrays of ``n`` points of ``fields``, never written: copied for each batch
+    (a build makes one per point, the jump step thousands)."""
+    return {f.name: f.empty((n,)) for f in fields}
 
 
 def slot_order(contacts: Iterable[Any]) -> list[Any]:
@@ -67,21 +96,33 @@ def slot_order(contacts: Iterable[Any]) -> list[Any]:
     return sorted(contacts, key=lambda c: -float(c.force))
 
 
+@functools.lru_cache(maxsize=64)
+def _fill_plan(names: tuple[str, ...]) -> tuple[tuple[tuple[str, str, bool], ...],
+                                                tuple[tuple[str, str], ...]]:
+    """What :func:`fill_record` reads for the datasets ``names``: per point ``(dataset,
+    attribute, optional)`` (optional: a pose solve's quantity, absent from an error record)
+    and per contact ``(dataset, attribute)``."""
+    point, contact = [], []
+    for name in names:
+        if FIELDS_BY_NAME[name].per_contact:
+            contact.append((name, result_attribute(name)))
+        elif name not in DERIVED:
+            attr = result_attribute(name)
+            point.append((name, attr, attr in POINT_QUANTITIES))
+    return tuple(point), tuple(contact)
+
+
 def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
     """Write ``result`` into row ``i`` of the per-method arrays ``out`` (only the fields present).
 
     Contacts of each wheel are ordered by decreasing normal force (stable): slot 0 is the primary
     contact. Slots beyond :data:`N_SLOTS` are dropped but counted in ``n_contacts``.
     """
-    wanted = []
-    for name, arr in out.items():
-        if FIELDS_BY_NAME[name].per_contact:
-            wanted.append((name, result_attribute(name)))
-        elif name not in DERIVED:
-            attr = result_attribute(name)
-            if attr in POINT_QUANTITIES and not hasattr(result, attr):
-                continue       # not a pose solve's result (an error record): the fill value
-            arr[i] = getattr(result, attr)
+    point, wanted = _fill_plan(tuple(out))
+    for name, attr, optional in point:
+        if optional and not hasattr(result, attr):
+            continue           # not a pose solve's result (an error record): the fill value
+        out[name][i] = getattr(result, attr)
     if D.n_contacts in out:
         out[D.n_contacts][i] = [len(result.contacts.get(s, [])) for s in SIDES]
     if not wanted:
@@ -95,16 +136,9 @@ def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
 
 def pose_to_record(result: PoseResult, fields: Sequence[Field]) -> dict[str, np.ndarray]:
     """The flat per-point record of one pose: field name -> array of the field's suffix shape."""
-    out = {name: arr.copy() for name, arr in _empty_record(tuple(fields)).items()}
+    out = {name: arr.copy() for name, arr in _empty_template(tuple(fields), 1).items()}
     fill_record(out, 0, result)
     return {name: arr[0] for name, arr in out.items()}
-
-
-@functools.lru_cache(maxsize=16)
-def _empty_record(fields: tuple[Field, ...]) -> dict[str, np.ndarray]:
-    """A fill-valued one-point record of ``fields`` (copied for each pose: the jump step makes
-    thousands)."""
-    return {f.name: f.empty((1,)) for f in fields}
 
 
 def compute_points(scene: Any, grid: Grid, points: np.ndarray, methods: Sequence[str],

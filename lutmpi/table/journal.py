@@ -257,6 +257,8 @@ class JournalWriter:
                  sync_interval_s: float):
         self.path = directory / f"rank-{rank:05d}-{run_id}{SUFFIX}"
         self.dtype, self.methods, self.fields = dtype, list(methods), list(fields)
+        #: (record column, method, field name) in the record's order
+        self._columns = [(f"{m}/{f.name}", m, f.name) for m in self.methods for f in self.fields]
         self._key = _key(inputs_sha256)
         self.sync_interval_s = sync_interval_s
         self._last_sync = time.monotonic()
@@ -274,9 +276,8 @@ class JournalWriter:
         t0 = time.perf_counter()
         arr = np.zeros(len(points), dtype=self.dtype)
         arr["point"] = points
-        for m in self.methods:
-            for f in self.fields:
-                arr[f"{m}/{f.name}"] = records[m][f.name]
+        for column, m, name in self._columns:
+            arr[column] = records[m][name]
         payload = arr.tobytes()
         blob = _HEAD.pack(MAGIC, len(points), len(payload), _digest(self._key, payload)) + payload
         try:

@@ -1,0 +1,71 @@
+"""What a build reports about its own time (issue 14): the solver's warm-up (compiled kernels
+loaded) is neither a point's busy time nor overhead, and the grid loop's time outside the solves
+(records, journal, hand-out) is measured per rank."""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import pytest
+
+from lutmpi.config.load import load_config
+from lutmpi.parallel.runner import build_table
+from tests.support import faulty_solver
+from tests.support.tables import write_config
+
+pytestmark = pytest.mark.timeout(60)
+
+WARM_S = 0.4
+SOLVE_S = 0.002
+
+
+class _SlowWarmSolver:
+    """A solver with a costly one-off warm-up per method, as the production one has."""
+
+    def __init__(self) -> None:
+        self.warmed: list[tuple[str, float, float]] = []
+
+    def warm(self, scene, method: str, y: float = 0.0, yaw: float = 0.0) -> None:
+        if all(m != method for m, _, _ in self.warmed):
+            self.warmed.append((method, y, yaw))
+            time.sleep(WARM_S)
+
+    def __call__(self, scene, y: float, yaw: float, method: str):
+        self.warm(scene, method, y, yaw)
+        time.sleep(SOLVE_S)
+        return faulty_solver.solve(scene, y, yaw, method)
+
+
+def test_warm_up_is_outside_busy_time_and_overhead_is_measured(tmp_path, caplog):
+    cfg = load_config(write_config(tmp_path, ny=5, nyaw=3))
+    solver = _SlowWarmSolver()
+    with caplog.at_level(logging.INFO, logger="lutmpi.parallel.runner"):
+        summary = build_table(cfg, tmp_path / "t.h5", solver=solver,
+                              scene_factory=faulty_solver.make_scene, checkpoint_interval_s=0.0)
+    points = 5 * 3
+    # warmed once, before the grid, at the first point to compute
+    assert [m for m, _, _ in solver.warmed] == list(cfg.output.methods)
+    assert solver.warmed[0][1:] == pytest.approx((-0.009, -0.12))
+    # busy: the solves only (15 x 2 ms and the closed forms), not the 0.4 s warm-up
+    assert points * SOLVE_S <= summary.busy_s[0] < WARM_S
+    assert len(summary.overhead_s) == 1 and summary.overhead_s[0] >= 0.0
+    assert summary.overhead_fraction == pytest.approx(summary.overhead_s[0] / summary.busy_s[0])
+    assert "compiled kernels loaded in" in caplog.text
+    assert "grid loop outside the solves" in caplog.text
+
+
+def test_production_solver_warms_each_method_once(tmp_path):
+    from lutmpi.equilibrium.result import CONVERGED
+    from lutmpi.pose.solve import solve_pose
+    from lutmpi.scene import Scene
+    from lutmpi.table.compute import PoseSolver
+
+    scene = Scene.from_config(load_config(write_config(tmp_path, ny=3, nyaw=3)))
+    solver = PoseSolver()
+    solver.warm(scene, "reference", 0.002, 0.0)
+    once = solver.warm_s
+    assert once > 0.0
+    result = solver(scene, 0.002, 0.0, "reference")
+    assert solver.warm_s == once and result.status == CONVERGED
+    assert result.z_g == solve_pose(scene, 0.002, 0.0, "reference").z_g   # the same, pure solve
