@@ -6,8 +6,11 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
+import os
 import pkgutil
 import sys
+from typing import NoReturn
 
 from lutmpi import __version__
 from lutmpi.errors import LutmpiError
@@ -51,5 +54,36 @@ def main(argv: list[str] | None = None) -> int:
     return int(rc or 0)
 
 
+def run() -> NoReturn:
+    """The ``lutmpi`` console script: :func:`main`, then, on success, the process ends at once.
+
+    Python's own end tears down every module and object, and with numba's compiled kernels
+    loaded that costs 0.3-0.5 s per process (LLVM's code and modules freed one by one;
+    BENCHMARKS.md), on every rank, after the work is done. A command that succeeded has closed
+    its files (tables, journals and locks are closed or renamed before :func:`main` returns):
+    logging and the standard streams are flushed, MPI is finalized when it was started, and
+    ``os._exit`` ends the process. A failed command ends the usual way.
+    """
+    rc = main()
+    if rc == 0:
+        _end_now()
+    sys.exit(rc)
+
+
+def _end_now() -> None:
+    """Flush, finalize MPI (when started) and ``os._exit(0)``; return if a flush fails (the
+    caller then ends the usual way, which reports it)."""
+    logging.shutdown()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        return
+    mpi = sys.modules.get("mpi4py.MPI")
+    if mpi is not None and mpi.Is_initialized() and not mpi.Is_finalized():
+        mpi.Finalize()
+    os._exit(0)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    run()
