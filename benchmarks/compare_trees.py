@@ -75,7 +75,13 @@ def main() -> None:
             cores = (r % 2, 1 - r % 2)
             procs = [start(tree, args, core) for tree, core in zip((a.base, a.new), cores,
                                                                     strict=True)]
-            got = [rows_of(p) for p in procs]
+            try:
+                got = [rows_of(p) for p in procs]
+            finally:              # one failed: the other is not left running on its core
+                for p in procs:
+                    if p.poll() is None:
+                        p.kill()
+                        p.wait()
             for tree, rows in zip((a.base, a.new), got, strict=True):
                 keep(tree, rows)
             for m in got[0]:

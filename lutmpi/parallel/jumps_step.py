@@ -75,7 +75,9 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
             return pose_to_record(solver(scene, y, yaw, method), lfields)
 
         mesh = mesh_resolution(scene, method)
-        js, n_cells = _locate(comm, grid, arrays, solve, lfields, config.output.refine, mesh,
+        # the grid nodes as the search sees them: the fields a solved record holds (not timing)
+        limits = {f.name: arrays[f.name] for f in lfields}
+        js, n_cells = _locate(comm, grid, limits, solve, lfields, config.output.refine, mesh,
                               split)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
@@ -158,9 +160,9 @@ def _map_records(obj: Any, fn: Any) -> Any:
 def _pack(obj: Any) -> tuple[Any, dict[str, np.ndarray]]:
     """``obj`` as a skeleton whose pose records are :class:`_Ref` rows, and the records stacked
     per name. Sent between ranks, thousands of records pickled one by one cost seconds; their
-    columns do not. Only the names every record has are sent: a grid node's record (a bracket
-    end the bisection kept) also holds the timing fields a solved one leaves out, and nothing
-    after the transport reads more than the limit fields both hold."""
+    columns do not. Only the names every record has are sent: the search's grid-node records
+    (bracket ends the bisection kept) and its solved ones both hold the limit fields
+    (:func:`add_jumps`), and the rule keeps any other mix of records sendable too."""
     recs: list[dict[str, np.ndarray]] = []
 
     def ref(rec: dict[str, np.ndarray]) -> _Ref:

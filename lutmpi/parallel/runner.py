@@ -237,19 +237,24 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
         log.info("resuming %s: %d of %d points verified in the journal and reused", writer.out,
                  int(done.sum()), grid.n_points)
     todo = np.flatnonzero(~done)
-    warm = getattr(solver, "warm", None)
+    # the counter's window is collective: made before the warm-up, so a rank whose kernels load
+    # sooner starts on the points at once instead of waiting for the slowest to load
+    counter = make_counter(comm) if split == "dynamic" else None
+    warm, warm_s = getattr(solver, "warm", None), 0.0
     if warm is not None and len(todo):   # kernels loaded before the grid, outside busy time
         t0 = time.perf_counter()
         y, yaw = grid.pose(int(todo[0]))
         for method in methods:
             warm(prep["scene"], method, y, yaw)
-        if comm.rank == 0:
-            log.info("compiled kernels loaded in %.2f s", time.perf_counter() - t0)
+        warm_s = time.perf_counter() - t0
     busy, loop = _compute_all(comm, writer, grid, prep["scene"], methods, solver,
-                              _batches(comm, todo, split), len(todo))
+                              _batches(comm, todo, split, counter), len(todo))
+    if counter is not None:
+        counter.free()  # collective: not on an error path (that aborts the job instead)
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
     busy_all = np.asarray(comm.bcast(comm.gather(busy, root=0), root=0), dtype=float)
     loop_all = np.asarray(comm.bcast(comm.gather(loop, root=0), root=0), dtype=float)
+    warm_all = comm.gather(warm_s, root=0)
     journal_s = float(comm.allreduce(writer.journal_seconds))
     writer.finish({"wall_time_s": wall, "rank_busy_s": busy_all}, after_grid=functools.partial(
         add_jumps, comm, grid, config, prep["scene"], solver, methods, writer.fields,
@@ -265,6 +270,8 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
     summary.journal_s = journal_s
     summary.overhead_s = [float(x) for x in loop_all - busy_all]
     if comm.rank == 0 and len(todo):
+        log.info("compiled kernels loaded before the grid: %s s per rank",
+                 "[" + ", ".join(f"{w:.2f}" for w in warm_all) + "]")
         log.info("grid loop outside the solves (records, journal, hand-out): %s s per rank, at "
                  "most %.1f %% of a rank's busy time",
                  "[" + ", ".join(f"{o:.2f}" for o in summary.overhead_s) + "]",
@@ -272,19 +279,17 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
     return summary
 
 
-def _batches(comm: Any, todo: np.ndarray, how: str) -> Iterator[tuple[np.ndarray, int]]:
+def _batches(comm: Any, todo: np.ndarray, how: str,
+             counter: Any = None) -> Iterator[tuple[np.ndarray, int]]:
     """This rank's points, in batches, each with an estimate of the global count handed out.
 
-    ``"dynamic"``: one point at a time from a counter shared by all ranks (no rank waits for
-    another); the static splits of :mod:`lutmpi.parallel.partition` otherwise.
+    ``"dynamic"``: one point at a time from ``counter``, shared by all ranks (no rank waits for
+    another; :func:`lutmpi.parallel.workqueue.make_counter`); the static splits of
+    :mod:`lutmpi.parallel.partition` otherwise.
     """
     if how == "dynamic":
-        counter = make_counter(comm)
-        try:
-            while (k := counter.next()) < len(todo):
-                yield todo[k:k + 1], k + 1
-        finally:
-            counter.free()
+        while (k := counter.next()) < len(todo):
+            yield todo[k:k + 1], k + 1
         return
     mine = todo[partition.split(len(todo), comm.size, comm.rank, how)]
     step = max(1, len(mine) // N_STEPS)
@@ -299,21 +304,22 @@ def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
     Rank 0 logs the estimated global progress. SIGINT/SIGTERM raise
     :class:`~lutmpi.errors.BuildInterruptedError`.
 
-    Returns ``(busy, loop)``: the time spent in the solver and the whole loop's time (from its
-    first hand-out to the last point journaled; the difference is the per-point overhead), s.
+    Returns ``(busy, loop)``: the time spent in the solver and the loop's time from its first
+    hand-out to its last point journaled (the difference is the per-point overhead; the wait
+    for the other ranks' last points at the counter's collective release is not in it), s.
     """
     busy = 0.0
-    t0 = last_log = time.perf_counter()
+    t0 = last_log = end = time.perf_counter()
     with _signals_raise():
         for points, handed_out in batches:
             records, spent = compute_points(scene, grid, points, methods, solver, writer.fields)
             busy += spent
             writer.record(points, records)
-            now = time.perf_counter()
-            if comm.rank == 0 and now - last_log >= PROGRESS_EVERY_S:
-                _log_progress(handed_out, n_todo, now - t0, "~")
-                last_log = now
-    return busy, time.perf_counter() - t0
+            end = time.perf_counter()
+            if comm.rank == 0 and end - last_log >= PROGRESS_EVERY_S:
+                _log_progress(handed_out, n_todo, end - t0, "~")
+                last_log = end
+    return busy, end - t0
 
 
 @contextlib.contextmanager
