@@ -259,6 +259,8 @@ class JournalWriter:
         self.dtype, self.methods, self.fields = dtype, list(methods), list(fields)
         #: (record column, method, field name) in the record's order
         self._columns = [(f"{m}/{f.name}", m, f.name) for m in self.methods for f in self.fields]
+        #: each column's element dtype in the record (byte order included)
+        self._column_dtypes = [dtype.fields[c][0].base for c, _, _ in self._columns]
         self._key = _key(inputs_sha256)
         self.sync_interval_s = sync_interval_s
         self._last_sync = time.monotonic()
@@ -274,11 +276,13 @@ class JournalWriter:
     def append(self, points: np.ndarray, records: Records) -> None:
         """Write one record of ``points`` (one ``write``); sync when the interval has passed."""
         t0 = time.perf_counter()
-        arr = np.zeros(len(points), dtype=self.dtype)
-        arr["point"] = points
-        for column, m, name in self._columns:
-            arr[column] = records[m][name]
-        payload = arr.tobytes()
+        payload = self._one_point(points, records) if len(points) == 1 else None
+        if payload is None:
+            arr = np.zeros(len(points), dtype=self.dtype)
+            arr["point"] = points
+            for column, m, name in self._columns:
+                arr[column] = records[m][name]
+            payload = arr.tobytes()
         blob = _HEAD.pack(MAGIC, len(points), len(payload), _digest(self._key, payload)) + payload
         try:
             view = memoryview(blob)
@@ -291,6 +295,20 @@ class JournalWriter:
         if time.monotonic() - self._last_sync >= self.sync_interval_s:
             self.sync()
         self.seconds += time.perf_counter() - t0
+
+    def _one_point(self, points: np.ndarray, records: Records) -> bytes | None:
+        """The record of one point as bytes without the structured array: the packed layout of
+        one row is its columns' bytes one after the other (the same bytes
+        ``arr.tobytes()`` gives). None where a column's dtype or size is not the layout's (then
+        the caller copies through the structured array, which raises on a wrong shape)."""
+        parts = [np.asarray(points, dtype="<i8").tobytes()]
+        for (_, m, name), want in zip(self._columns, self._column_dtypes, strict=True):
+            a = records[m][name]
+            if a.dtype != want:
+                return None
+            parts.append(a.tobytes())
+        payload = b"".join(parts)
+        return payload if len(payload) == self.dtype.itemsize else None
 
     def sync(self) -> None:
         """``fsync`` what was written (raises the write error of any earlier ``write``)."""
