@@ -312,9 +312,11 @@ def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
     t0 = last_log = end = time.perf_counter()
     with _signals_raise():
         for points, handed_out in batches:
-            records, spent = compute_points(scene, grid, points, methods, solver, writer.fields)
+            rows, first = writer.claim(len(points))
+            _, spent = compute_points(scene, grid, points, methods, solver, writer.fields,
+                                      out=rows, first=first)
             busy += spent
-            writer.record(points, records)
+            writer.commit(points)
             end = time.perf_counter()
             if comm.rank == 0 and end - last_log >= PROGRESS_EVERY_S:
                 _log_progress(handed_out, n_todo, end - t0, "~")

@@ -19,7 +19,8 @@ Protocol (the runner calls, every rank):
    journal's inputs (by content hash) and records. Returns the done mask.
 2. :meth:`begin` (collective): create or recreate the partial file, a fresh journal if not resuming,
    open this rank's journal file, and load this rank's share of the verified records.
-3. :meth:`record` (no communication): journal a batch of computed points.
+3. :meth:`claim` and :meth:`commit` (no communication): the rows of this rank's store, filled in
+   place by the solves and journaled as they are (:meth:`record` journals records made elsewhere).
 4. :meth:`finish` (collective): sync the journals, send every record to the rank owning its rows
    (one ``alltoall``), write the row blocks, set ``complete``, rename, drop the journal, unlock.
 5. :meth:`close` (every rank, always): release the lock and files if anything failed.
@@ -48,6 +49,9 @@ from lutmpi.table.schema import Field
 log = logging.getLogger(__name__)
 
 Records = dict[str, dict[str, np.ndarray]]
+
+#: rows of a rank's store allocated at a time (its points are handed out one by one)
+STORE_CHUNK = 256
 
 
 @dataclass
@@ -98,6 +102,10 @@ class TableWriter:
         self.blocks: Records = {m: {f.name: f.empty((self.row_count, grid.shape[1]))
                                     for f in fields} for m in self.methods}
         self.pending: list[tuple[np.ndarray, Records]] = []
+        #: this rank's computed points, in the journal's record layout, filled in place
+        #: (:meth:`claim`): the chunks, each with its rows committed so far
+        self._store: list[tuple[np.ndarray, int]] = []
+        self._views: Records = {}
         self._lock = OutputLock(self.out)
         self._journal: journal.JournalWriter | None = None
 
@@ -200,8 +208,32 @@ class TableWriter:
         return plan.done
 
     # -- 3. during compute ---------------------------------------------------------------------
+    def claim(self, n: int) -> tuple[Records, int]:
+        """Rows for ``n`` points to be computed, in this rank's store (issue 14: no per-point
+        records on the hot path): ``method -> name ->`` fill-valued arrays to fill in place from
+        the returned row on (:func:`lutmpi.table.compute.compute_points`); :meth:`commit` then
+        journals them. Claiming again before committing hands out the same rows."""
+        if not self._store or self._store[-1][1] + n > len(self._store[-1][0]):
+            chunk = journal.empty_rows(self.dtype, self.methods, self.fields,
+                                       max(STORE_CHUNK, n))
+            self._store.append((chunk, 0))
+            self._views = {m: {f.name: chunk[f"{m}/{f.name}"] for f in self.fields}
+                           for m in self.methods}
+        return self._views, self._store[-1][1]
+
+    def commit(self, points: np.ndarray) -> None:
+        """Journal the ``len(points)`` rows last claimed, now filled, as ``points``' records
+        (this rank only, no communication)."""
+        if self._journal is None:
+            raise TableError("TableWriter.commit called before begin")
+        chunk, used = self._store[-1]
+        rows = chunk[used:used + len(points)]
+        rows["point"] = points
+        self._journal.append_rows(rows)
+        self._store[-1] = (chunk, used + len(points))
+
     def record(self, points: np.ndarray, records: Records) -> None:
-        """Journal computed ``points`` (this rank only, no communication)."""
+        """Journal computed ``points`` given as records (this rank only, no communication)."""
         if self._journal is None:
             raise TableError("TableWriter.record called before begin")
         self._journal.append(points, records)
@@ -249,7 +281,10 @@ class TableWriter:
         comm, grid = self.comm, self.grid
         owners = partition.owner_of_rows(grid.shape[0], comm.size)
         outgoing: list[list[tuple[np.ndarray, Records]]] = [[] for _ in range(comm.size)]
-        for points, records in self.pending:
+        stored = [journal.to_records(chunk[:used], self.methods, self.fields)
+                  for chunk, used in self._store]
+        self._store, self._views = [], {}
+        for points, records in self.pending + stored:
             dest = owners[points // grid.shape[1]]
             for rank in np.unique(dest):
                 sel = dest == rank

@@ -143,7 +143,8 @@ def pose_to_record(result: PoseResult, fields: Sequence[Field]) -> dict[str, np.
 
 def compute_points(scene: Any, grid: Grid, points: np.ndarray, methods: Sequence[str],
                    solver: Solver, fields: Sequence[Field],
-                   on_point: Callable[[int], None] | None = None) -> tuple[Records, float]:
+                   on_point: Callable[[int], None] | None = None, *,
+                   out: Records | None = None, first: int = 0) -> tuple[Records, float]:
     """Solve ``points`` (flat grid indices) for every method.
 
     Parameters
@@ -161,11 +162,17 @@ def compute_points(scene: Any, grid: Grid, points: np.ndarray, methods: Sequence
         Fields to record.
     on_point : callable, optional
         Called with the number of points finished so far (progress).
+    out : dict, optional
+        Arrays to fill in place (``method -> name -> array``, fill-valued, rows ``first`` to
+        ``first + n``; e.g. a build's preallocated store,
+        :meth:`lutmpi.parallel.writer.TableWriter.claim`); default: new fill-valued records.
+    first : int
+        The row of ``out`` the first point goes to.
 
     Returns
     -------
     records : dict
-        ``method -> name -> array (n, *suffix)``.
+        ``out``, or ``method -> name -> array (n, *suffix)``.
     busy : float
         Wall time spent solving, s.
 
@@ -174,7 +181,7 @@ def compute_points(scene: Any, grid: Grid, points: np.ndarray, methods: Sequence
     Exception
         Whatever the solver raised, with a note naming the grid point and the method.
     """
-    records = empty_records(fields, methods, len(points))
+    records = empty_records(fields, methods, len(points)) if out is None else out
     busy = 0.0
     for i, k in enumerate(points):
         y, yaw = grid.pose(int(k))
@@ -187,7 +194,7 @@ def compute_points(scene: Any, grid: Grid, points: np.ndarray, methods: Sequence
                              f"method {method!r}")
                 raise
             busy += time.perf_counter() - t0
-            fill_record(records[method], i, result)
+            fill_record(records[method], first + i, result)
         if on_point is not None:
             on_point(i + 1)
     return records, busy

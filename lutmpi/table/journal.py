@@ -18,6 +18,7 @@ No MPI, no HDF5.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import logging
@@ -231,6 +232,26 @@ def done_points(directory: Path) -> np.ndarray:
     return np.flatnonzero(done)
 
 
+def empty_rows(dtype: np.dtype, methods: Sequence[str], fields: Sequence[Field],
+               n: int) -> np.ndarray:
+    """``n`` rows of the record's layout (:func:`record_dtype`), every field at its fill value
+    (:meth:`Field.empty`) and ``point`` at -1: a store that a build fills in place and journals
+    as it is (:meth:`JournalWriter.append_rows`)."""
+    rows = np.empty(n, dtype=dtype)
+    rows[:] = _fill_row(dtype, tuple(methods), tuple(fields))
+    return rows
+
+
+@functools.lru_cache(maxsize=16)
+def _fill_row(dtype: np.dtype, methods: tuple[str, ...], fields: tuple[Field, ...]) -> np.ndarray:
+    row = np.zeros((), dtype=dtype)
+    row["point"] = -1
+    for m in methods:
+        for f in fields:
+            row[f"{m}/{f.name}"] = f.empty(())
+    return row
+
+
 def to_records(arr: np.ndarray, methods: Sequence[str],
                fields: Sequence[Field]) -> tuple[np.ndarray, Records]:
     """A structured journal array -> ``(points, method -> field -> array)`` in native dtypes."""
@@ -259,8 +280,6 @@ class JournalWriter:
         self.dtype, self.methods, self.fields = dtype, list(methods), list(fields)
         #: (record column, method, field name) in the record's order
         self._columns = [(f"{m}/{f.name}", m, f.name) for m in self.methods for f in self.fields]
-        #: each column's element dtype in the record (byte order included)
-        self._column_dtypes = [dtype.fields[c][0].base for c, _, _ in self._columns]
         self._key = _key(inputs_sha256)
         self.sync_interval_s = sync_interval_s
         self._last_sync = time.monotonic()
@@ -276,14 +295,23 @@ class JournalWriter:
     def append(self, points: np.ndarray, records: Records) -> None:
         """Write one record of ``points`` (one ``write``); sync when the interval has passed."""
         t0 = time.perf_counter()
-        payload = self._one_point(points, records) if len(points) == 1 else None
-        if payload is None:
-            arr = np.zeros(len(points), dtype=self.dtype)
-            arr["point"] = points
-            for column, m, name in self._columns:
-                arr[column] = records[m][name]
-            payload = arr.tobytes()
-        blob = _HEAD.pack(MAGIC, len(points), len(payload), _digest(self._key, payload)) + payload
+        arr = np.zeros(len(points), dtype=self.dtype)
+        arr["point"] = points
+        for column, m, name in self._columns:
+            arr[column] = records[m][name]
+        self._write(len(points), arr.tobytes(), t0)
+
+    def append_rows(self, rows: np.ndarray) -> None:
+        """Write rows already in the record's layout (``dtype``, ``point`` set; e.g. a build's
+        preallocated store, :func:`empty_rows`) as one record, their bytes as they are."""
+        t0 = time.perf_counter()
+        if rows.dtype != self.dtype or rows.ndim != 1:
+            raise TypeError(f"journal rows must be a 1-D array of the record's dtype, got "
+                            f"{rows.dtype} with shape {rows.shape}")
+        self._write(len(rows), rows.tobytes(), t0)
+
+    def _write(self, n: int, payload: bytes, t0: float) -> None:
+        blob = _HEAD.pack(MAGIC, n, len(payload), _digest(self._key, payload)) + payload
         try:
             view = memoryview(blob)
             while view:
@@ -295,20 +323,6 @@ class JournalWriter:
         if time.monotonic() - self._last_sync >= self.sync_interval_s:
             self.sync()
         self.seconds += time.perf_counter() - t0
-
-    def _one_point(self, points: np.ndarray, records: Records) -> bytes | None:
-        """The record of one point as bytes without the structured array: the packed layout of
-        one row is its columns' bytes one after the other (the same bytes
-        ``arr.tobytes()`` gives). None where a column's dtype or size is not the layout's (then
-        the caller copies through the structured array, which raises on a wrong shape)."""
-        parts = [np.asarray(points, dtype="<i8").tobytes()]
-        for (_, m, name), want in zip(self._columns, self._column_dtypes, strict=True):
-            a = records[m][name]
-            if a.dtype != want:
-                return None
-            parts.append(a.tobytes())
-        payload = b"".join(parts)
-        return payload if len(payload) == self.dtype.itemsize else None
 
     def sync(self) -> None:
         """``fsync`` what was written (raises the write error of any earlier ``write``)."""

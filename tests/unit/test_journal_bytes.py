@@ -1,63 +1,84 @@
-"""A journaled point's bytes (issue 14): the one-point record is written from its columns'
-bytes without the structured array, and must be that array's bytes exactly (resume reads them
-back through the array's layout); anything else goes the structured way."""
+"""A journaled point's bytes (issue 14): a build fills its points in place in a store of the
+journal's record layout (``TableWriter.claim``) and journals those rows as they are. They must be
+the bytes the records' structured way gives (resume reads them back through that layout), and a
+store's untouched fields must hold each field's fill value."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from lutmpi.contact.records import ContactResult
 from lutmpi.equilibrium.result import PoseResult
 from lutmpi.table.compute import empty_records, fill_record
-from lutmpi.table.journal import JournalWriter, read_records, record_dtype, to_records
+from lutmpi.table.journal import (
+    JournalWriter,
+    empty_rows,
+    read_records,
+    record_dtype,
+    to_records,
+)
 from lutmpi.table.schema import select_fields
 
 METHODS = ("load_centre", "reference")
 SHA = "ab" * 32
 
 
-def _records():
-    fields = select_fields(["all"])
-    recs = empty_records(fields, METHODS, 1)
+def _result() -> PoseResult:
     result = PoseResult(0.004, 0.01, "load_centre", z_g=1.5e-4, roll=-2e-3, status=0)
     contact = ContactResult(wheel_point=np.array([0.0, 0.75, -0.46]),
                             rail_point=np.array([0.0, 0.75, 1e-5]), normal=np.array([0, 0, 1.0]),
                             indentation=1e-5, force=5e4, wheel_s=-1e-3, rail_v=2e-3)
     result.contacts = {"left": [contact], "right": []}
-    fill_record(recs["load_centre"], 0, result)
-    return fields, recs
+    return result
 
 
-def _structured(writer: JournalWriter, points, recs) -> bytes:
-    arr = np.zeros(len(points), dtype=writer.dtype)
-    arr["point"] = points
-    for column, m, name in writer._columns:
-        arr[column] = recs[m][name]
-    return arr.tobytes()
+def _writer(tmp_path, fields) -> JournalWriter:
+    return JournalWriter(tmp_path, 0, "run", record_dtype(METHODS, fields), SHA, METHODS,
+                         fields, 10.0)
 
 
-def test_one_point_bytes_are_the_structured_arrays(tmp_path):
-    fields, recs = _records()
-    writer = JournalWriter(tmp_path, 0, "run", record_dtype(METHODS, fields), SHA, METHODS,
-                           fields, 10.0)
-    assert writer._one_point(np.array([11]), recs) == _structured(writer, [11], recs)
-    writer.append(np.array([11]), recs)
+def test_empty_rows_hold_every_fields_fill_value():
+    fields = select_fields(["all"])
+    rows = empty_rows(record_dtype(METHODS, fields), METHODS, fields, 3)
+    recs = empty_records(fields, METHODS, 3)
+    _, back = to_records(rows, METHODS, fields)
+    assert rows["point"].tolist() == [-1, -1, -1]
+    for m in METHODS:
+        for f in fields:
+            np.testing.assert_array_equal(back[m][f.name], recs[m][f.name])
+
+
+def test_rows_filled_in_place_are_the_records_bytes_and_read_back(tmp_path):
+    fields = select_fields(["all"])
+    writer = _writer(tmp_path, fields)
+    recs = empty_records(fields, METHODS, 1)
+    fill_record(recs["load_centre"], 0, _result())
+    rows = empty_rows(writer.dtype, METHODS, fields, 4)
+    views = {m: {f.name: rows[f"{m}/{f.name}"] for f in fields} for m in METHODS}
+    fill_record(views["load_centre"], 2, _result())        # row 2 of the store, in place
+    rows["point"][2] = 11
+
+    writer.append(np.array([11]), recs)                    # the records' structured way
+    writer.append_rows(rows[2:3])                          # the store's row as it is
     writer.close()
     arrays, report = read_records(writer.path, writer.dtype, SHA, 100)
-    assert report.good == 1 and report.bad == 0
-    points, back = to_records(arrays[0], METHODS, fields)
+    assert report.good == 2 and report.bad == 0
+    assert arrays[0].tobytes() == arrays[1].tobytes()
+    points, back = to_records(arrays[1], METHODS, fields)
     assert points.tolist() == [11]
     for m in METHODS:
         for f in fields:
             np.testing.assert_array_equal(back[m][f.name], recs[m][f.name])
 
 
-def test_other_dtypes_or_shapes_go_the_structured_way(tmp_path):
-    fields, recs = _records()
-    writer = JournalWriter(tmp_path, 0, "run", record_dtype(METHODS, fields), SHA, METHODS,
-                           fields, 10.0)
-    name = fields[1].name
-    recs["reference"][name] = recs["reference"][name].astype(np.float32)
-    assert writer._one_point(np.array([3]), recs) is None
-    recs["reference"][name] = np.zeros((1, 3))          # a wrong shape: never silently written
-    assert writer._one_point(np.array([3]), recs) is None
+def test_rows_of_another_layout_are_refused(tmp_path):
+    fields = select_fields(["all"])
+    writer = _writer(tmp_path, fields)
+    other = record_dtype(METHODS[:1], fields)
+    with pytest.raises(TypeError, match="record's dtype"):
+        writer.append_rows(empty_rows(other, METHODS[:1], fields, 1))
+    with pytest.raises(TypeError, match="1-D"):
+        writer.append_rows(empty_rows(writer.dtype, METHODS, fields, 4).reshape(2, 2))
+    writer.close()
+    assert read_records(writer.path, writer.dtype, SHA, 100)[1].good == 0
