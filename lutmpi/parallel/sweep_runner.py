@@ -115,30 +115,46 @@ class SceneCache:
         return scene
 
 
-def tolerant(solver: Solver) -> Solver:
-    """Wrap ``solver`` so an exception at one pose becomes a result with status ``ERROR``.
+class Tolerant:
+    """``solver`` with an exception at one pose turned into a result with status ``ERROR``.
 
-    The first solve of each method in this process is done twice and the second result kept, so
-    one-off costs (numba compilation, caches) do not enter the first member's ``compute_time``
-    and the error-against-time plots compare like with like."""
-    warm: set[str] = set()
+    One-off costs (numba's kernels loaded, caches) are kept out of every pose's time, so the
+    error-against-time plots compare like with like: :meth:`warm`, which the build calls once
+    per method before its grid, warms ``solver`` (its own ``warm`` when it has one, else a solve
+    whose result is dropped), and a method's first solve warms it if the build did not.
+    """
 
-    def solve(scene: Any, y: float, yaw: float, method: str) -> PoseResult:
+    def __init__(self, solver: Solver) -> None:
+        self.solver = solver
+        self._warm: set[str] = set()
+
+    def warm(self, scene: Any, method: str, y: float = 0.0, yaw: float = 0.0) -> None:
+        """Warm ``method`` once (its first solve at ``(y, yaw)``, m and rad, when ``solver`` has
+        no ``warm``); an exception there is left for that pose's own solve to report."""
+        if method in self._warm:
+            return
+        self._warm.add(method)
+        inner = getattr(self.solver, "warm", None)
+        try:
+            if inner is not None:
+                inner(scene, method, y, yaw)
+            else:
+                self.solver(scene, y, yaw, method)
+        except Exception:  # the pose's own solve raises it again and records it
+            log.debug("warming %s at y=%.6g m, yaw=%.6g rad raised", method, y, yaw,
+                      exc_info=True)
+
+    def __call__(self, scene: Any, y: float, yaw: float, method: str) -> PoseResult:
+        self.warm(scene, method, y, yaw)
         t0 = time.process_time()
         try:
-            if method not in warm:
-                warm.add(method)
-                solver(scene, y, yaw, method)
-                t0 = time.process_time()
-            return solver(scene, y, yaw, method)
+            return self.solver(scene, y, yaw, method)
         except Exception as exc:  # a failed point is data (STYLE 4); logged with the pose
             log.warning("solver raised at y=%.6g m, yaw=%.6g rad, method %s: %s: %s", y, yaw,
                         method, type(exc).__name__, exc)
             return PoseResult(y=y, yaw=yaw, method=method, success=False, status=ERROR,
                               message=f"{STATUS[ERROR]} ({type(exc).__name__}: {exc})",
                               time=time.process_time() - t0)
-
-    return solve
 
 
 def _table_state(path: Path, inputs: dict[str, Any]) -> tuple[str, str]:
@@ -282,7 +298,7 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
         try:
             if base_solver is None:
                 base_solver = default_solver()
-            build_table(member.config, path, comm, solver=tolerant(base_solver),
+            build_table(member.config, path, comm, solver=Tolerant(base_solver),
                         force=force or state == "broken", resume=True, scene_factory=cache)
         except (LutmpiError, ImportError, OSError, ValueError, RuntimeError) as exc:
             # raised before compute, on every rank alike (comm.root_decides): not a hang

@@ -69,3 +69,41 @@ def test_production_solver_warms_each_method_once(tmp_path):
     result = solver(scene, 0.002, 0.0, "reference")
     assert solver.warm_s == once and result.status == CONVERGED
     assert result.z_g == solve_pose(scene, 0.002, 0.0, "reference").z_g   # the same, pure solve
+
+
+def test_sweep_solver_warms_before_the_grid_not_in_a_point(tmp_path):
+    """A sweep member's build wraps the solver (:class:`Tolerant`); the wrapper passes the
+    build's warm-up on, so the kernels' load is not the first point's busy or compute time."""
+    from lutmpi.parallel.sweep_runner import Tolerant
+
+    cfg = load_config(write_config(tmp_path, ny=5, nyaw=3))
+    inner = _SlowWarmSolver()
+    summary = build_table(cfg, tmp_path / "t.h5", solver=Tolerant(inner),
+                          scene_factory=faulty_solver.make_scene, checkpoint_interval_s=0.0)
+    assert [m for m, _, _ in inner.warmed] == list(cfg.output.methods)
+    assert 5 * 3 * SOLVE_S <= summary.busy_s[0] < WARM_S
+
+
+def test_sweep_solver_without_warm_or_raising_there_records_the_pose(tmp_path):
+    """A solver without ``warm`` is warmed by a dropped first solve; one that raises at the
+    first pose raises there again and that pose becomes an ``error`` record, not an abort."""
+    from lutmpi.equilibrium.result import CONVERGED, ERROR
+    from lutmpi.parallel.sweep_runner import Tolerant
+
+    scene = faulty_solver.make_scene(load_config(write_config(tmp_path, ny=3, nyaw=3)))
+    calls = []
+
+    def plain(scene, y, yaw, method):
+        calls.append((y, yaw))
+        if y > 0.008:
+            raise ValueError("no contact here (test)")
+        return faulty_solver.solve(scene, y, yaw, method)
+
+    solver = Tolerant(plain)
+    solver.warm(scene, "reference", 0.009, 0.0)        # raises inside: kept for the pose
+    assert calls == [(0.009, 0.0)]
+    assert solver(scene, 0.009, 0.0, "reference").status == ERROR
+    assert solver(scene, 0.0, 0.0, "reference").status == CONVERGED
+    assert len(calls) == 3                              # warmed once per method, not again
+    solver(scene, 0.0, 0.0, "max_distance")             # a method's first solve warms it
+    assert len(calls) == 5
