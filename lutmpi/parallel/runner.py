@@ -237,6 +237,8 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
         log.info("resuming %s: %d of %d points verified in the journal and reused", writer.out,
                  int(done.sum()), grid.n_points)
     todo = np.flatnonzero(~done)
+    if len(todo):
+        _compile_once(comm)
     # the counter's window is collective: made before the warm-up, so a rank whose kernels load
     # sooner starts on the points at once instead of waiting for the slowest to load
     counter = make_counter(comm) if split == "dynamic" else None
@@ -277,6 +279,27 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
                  "[" + ", ".join(f"{o:.2f}" for o in summary.overhead_s) + "]",
                  100 * summary.overhead_fraction)
     return summary
+
+
+def _compile_once(comm: Any) -> None:
+    """On a cold kernel cache (setup not run since the sources changed), rank 0 compiles every
+    kernel first (:func:`lutmpi.warmup.warm_kernels`, ~1.5 min on 2 cores) while the other
+    ranks wait, then they load them: ranks compiling at once would write the same cache entries
+    concurrently, which numba does not guard against. A warm cache (the usual case, checked by
+    rank 0) costs nothing here."""
+    if comm.size == 1:
+        return
+    from lutmpi import warmup
+
+    cold = comm.bcast(not warmup.kernels_ready() if comm.rank == 0 else None, root=0)
+    if not cold:
+        return
+    if comm.rank == 0:
+        log.warning("the compiled kernels' cache %s is not filled (run scripts/setup.sh after "
+                    "changing the sources): rank 0 compiles them before the other ranks load "
+                    "them", warmup.ready_marker().parent)
+        log.info("kernels compiled in %.1f s", warmup.warm_kernels())
+    comm.Barrier()
 
 
 def _batches(comm: Any, todo: np.ndarray, how: str,
