@@ -38,15 +38,19 @@ def _writer(tmp_path, fields) -> JournalWriter:
                          fields, 10.0)
 
 
+def _assert_same(back, recs) -> None:
+    for m in METHODS:
+        for f in select_fields(["all"]):
+            np.testing.assert_array_equal(back[m][f.name], recs[m][f.name], err_msg=f.name)
+
+
 def test_empty_rows_hold_every_fields_fill_value():
     fields = select_fields(["all"])
     rows = empty_rows(record_dtype(METHODS, fields), METHODS, fields, 3)
     recs = empty_records(fields, METHODS, 3)
     _, back = to_records(rows, METHODS, fields)
     assert rows["point"].tolist() == [-1, -1, -1]
-    for m in METHODS:
-        for f in fields:
-            np.testing.assert_array_equal(back[m][f.name], recs[m][f.name])
+    _assert_same(back, recs)
 
 
 def test_rows_filled_in_place_are_the_records_bytes_and_read_back(tmp_path):
@@ -67,9 +71,7 @@ def test_rows_filled_in_place_are_the_records_bytes_and_read_back(tmp_path):
     assert arrays[0].tobytes() == arrays[1].tobytes()
     points, back = to_records(arrays[1], METHODS, fields)
     assert points.tolist() == [11]
-    for m in METHODS:
-        for f in fields:
-            np.testing.assert_array_equal(back[m][f.name], recs[m][f.name])
+    _assert_same(back, recs)
 
 
 def test_rows_of_another_layout_are_refused(tmp_path):
