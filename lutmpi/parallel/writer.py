@@ -20,7 +20,7 @@ Protocol (the runner calls, every rank):
 2. :meth:`begin` (collective): create or recreate the partial file, a fresh journal if not resuming,
    open this rank's journal file, and load this rank's share of the verified records.
 3. :meth:`claim` and :meth:`commit` (no communication): the rows of this rank's store, filled in
-   place by the solves and journaled as they are (:meth:`record` journals records made elsewhere).
+   place by the solves and journaled as they are.
 4. :meth:`finish` (collective): sync the journals, send every record to the rank owning its rows
    (one ``alltoall``), write the row blocks, set ``complete``, rename, drop the journal, unlock.
 5. :meth:`close` (every rank, always): release the lock and files if anything failed.
@@ -194,7 +194,7 @@ class TableWriter:
                             self.fields, attrs)
         self._journal = journal.JournalWriter(
             self.journal_dir, comm.rank, plan.run_id, self.dtype, self.inputs["sha256"],
-            self.methods, self.fields, self.sync_interval_s)
+            self.sync_interval_s)
         if not plan.resume or plan.done is None:
             return np.zeros(self.grid.n_points, dtype=bool)
         mine = [p for i, p in enumerate(plan.files) if i % comm.size == comm.rank]
@@ -231,13 +231,6 @@ class TableWriter:
         rows["point"] = points
         self._journal.append_rows(rows)
         self._store[-1] = (chunk, used + len(points))
-
-    def record(self, points: np.ndarray, records: Records) -> None:
-        """Journal computed ``points`` given as records (this rank only, no communication)."""
-        if self._journal is None:
-            raise TableError("TableWriter.record called before begin")
-        self._journal.append(points, records)
-        self.pending.append((points, records))
 
     @property
     def journal_seconds(self) -> float:

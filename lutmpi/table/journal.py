@@ -274,12 +274,9 @@ class JournalWriter:
     """One rank's append-only journal file of this run."""
 
     def __init__(self, directory: Path, rank: int, run_id: str, dtype: np.dtype,
-                 inputs_sha256: str, methods: Sequence[str], fields: Sequence[Field],
-                 sync_interval_s: float):
+                 inputs_sha256: str, sync_interval_s: float):
         self.path = directory / f"rank-{rank:05d}-{run_id}{SUFFIX}"
-        self.dtype, self.methods, self.fields = dtype, list(methods), list(fields)
-        #: (record column, method, field name) in the record's order
-        self._columns = [(f"{m}/{f.name}", m, f.name) for m in self.methods for f in self.fields]
+        self.dtype = dtype
         self._key = _key(inputs_sha256)
         self.sync_interval_s = sync_interval_s
         self._last_sync = time.monotonic()
@@ -292,26 +289,16 @@ class JournalWriter:
         except OSError as exc:
             raise _write_error(self.path, exc) from exc
 
-    def append(self, points: np.ndarray, records: Records) -> None:
-        """Write one record of ``points`` (one ``write``); sync when the interval has passed."""
-        t0 = time.perf_counter()
-        arr = np.zeros(len(points), dtype=self.dtype)
-        arr["point"] = points
-        for column, m, name in self._columns:
-            arr[column] = records[m][name]
-        self._write(len(points), arr.tobytes(), t0)
-
     def append_rows(self, rows: np.ndarray) -> None:
-        """Write rows already in the record's layout (``dtype``, ``point`` set; e.g. a build's
-        preallocated store, :func:`empty_rows`) as one record, their bytes as they are."""
+        """Write rows in the record's layout (``dtype``, ``point`` set; a build's store,
+        :func:`empty_rows`) as one record, their bytes as they are (one ``write``); sync when
+        the interval has passed."""
         t0 = time.perf_counter()
         if rows.dtype != self.dtype or rows.ndim != 1:
             raise TypeError(f"journal rows must be a 1-D array of the record's dtype, got "
                             f"{rows.dtype} with shape {rows.shape}")
-        self._write(len(rows), rows.tobytes(), t0)
-
-    def _write(self, n: int, payload: bytes, t0: float) -> None:
-        blob = _HEAD.pack(MAGIC, n, len(payload), _digest(self._key, payload)) + payload
+        payload = rows.tobytes()
+        blob = _HEAD.pack(MAGIC, len(rows), len(payload), _digest(self._key, payload)) + payload
         try:
             view = memoryview(blob)
             while view:

@@ -168,15 +168,16 @@ def test_final_write_needs_no_new_space(small_fs, tmp_path):
                         "config_toml": cfg.text, "wall_time_s": np.nan,
                         "rank_busy_s": np.full(1, np.nan)})
     points = np.arange(grid.n_points)
+    rows, first = writer.claim(len(points))
     records, _ = compute_points(faulty_solver.make_scene(cfg), grid, points, METHODS,
-                                faulty_solver.solve, fields)
-    writer.record(points, records)
+                                faulty_solver.solve, fields, out=rows, first=first)
+    writer.commit(points)
     _fill(small_fs)
     writer.finish({"wall_time_s": 1.0, "rank_busy_s": np.ones(1)})
     table = read_table(small_fs / "t.h5")
     assert table["attrs"]["complete"] and table["attrs"]["wall_time_s"] == 1.0
     assert np.array_equal(table["methods"]["max_distance"]["z_g"].ravel(),
-                          records["max_distance"]["z_g"])
+                          records["max_distance"]["z_g"][first:first + len(points)])
 
 
 # -- kill -9 of a one-process build ---------------------------------------------------------------

@@ -34,8 +34,17 @@ def _result() -> PoseResult:
 
 
 def _writer(tmp_path, fields) -> JournalWriter:
-    return JournalWriter(tmp_path, 0, "run", record_dtype(METHODS, fields), SHA, METHODS,
-                         fields, 10.0)
+    return JournalWriter(tmp_path, 0, "run", record_dtype(METHODS, fields), SHA, 10.0)
+
+
+def _structured(dtype, points, recs) -> np.ndarray:
+    """The records as the journal's structured rows, field by field (the layout's definition)."""
+    arr = np.zeros(len(points), dtype=dtype)
+    arr["point"] = points
+    for m in METHODS:
+        for f in select_fields(["all"]):
+            arr[f"{m}/{f.name}"] = recs[m][f.name]
+    return arr
 
 
 def _assert_same(back, recs) -> None:
@@ -63,8 +72,8 @@ def test_rows_filled_in_place_are_the_records_bytes_and_read_back(tmp_path):
     fill_record(views["load_centre"], 2, _result())        # row 2 of the store, in place
     rows["point"][2] = 11
 
-    writer.append(np.array([11]), recs)                    # the records' structured way
-    writer.append_rows(rows[2:3])                          # the store's row as it is
+    writer.append_rows(_structured(writer.dtype, [11], recs))   # field by field
+    writer.append_rows(rows[2:3])                                # the store's row as it is
     writer.close()
     arrays, report = read_records(writer.path, writer.dtype, SHA, 100)
     assert report.good == 2 and report.bad == 0
