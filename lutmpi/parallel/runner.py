@@ -237,8 +237,7 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
         log.info("resuming %s: %d of %d points verified in the journal and reused", writer.out,
                  int(done.sum()), grid.n_points)
     todo = np.flatnonzero(~done)
-    if len(todo):
-        _compile_once(comm)
+    _compile_once(comm)   # also with nothing left to do: the jump step after the grid solves
     # the counter's window is collective: made before the warm-up, so a rank whose kernels load
     # sooner starts on the points at once instead of waiting for the slowest to load
     counter = make_counter(comm) if split == "dynamic" else None
