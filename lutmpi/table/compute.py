@@ -78,15 +78,14 @@ def default_solver() -> PoseSolver:
 
 def empty_records(fields: Sequence[Field], methods: Iterable[str], n: int) -> Records:
     """Fill-valued records for ``n`` points of every method."""
-    template = _empty_template(tuple(fields), n)
-    return {m: {name: arr.copy() for name, arr in template.items()} for m in methods}
+    return {m: {f.name: f.empty((n,)) for f in fields} for m in methods}
 
 
 @functools.lru_cache(maxsize=16)
-def _empty_template(fields: tuple[Field, ...], n: int) -> dict[str, np.ndarray]:
-    """Fill-valued arrays of ``n`` points of ``fields``, never written: copied for each batch
-    (a build makes one per point, the jump step thousands)."""
-    return {f.name: f.empty((n,)) for f in fields}
+def _empty_record(fields: tuple[Field, ...]) -> dict[str, np.ndarray]:
+    """A fill-valued one-point record of ``fields``, never written: copied for each pose of the
+    jump step (thousands)."""
+    return {f.name: f.empty((1,)) for f in fields}
 
 
 def slot_order(contacts: Iterable[Any]) -> list[Any]:
@@ -136,7 +135,7 @@ def fill_record(out: dict[str, np.ndarray], i: int, result: PoseResult) -> None:
 
 def pose_to_record(result: PoseResult, fields: Sequence[Field]) -> dict[str, np.ndarray]:
     """The flat per-point record of one pose: field name -> array of the field's suffix shape."""
-    out = {name: arr.copy() for name, arr in _empty_template(tuple(fields), 1).items()}
+    out = {name: arr.copy() for name, arr in _empty_record(tuple(fields)).items()}
     fill_record(out, 0, result)
     return {name: arr[0] for name, arr in out.items()}
 
