@@ -281,24 +281,57 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
 
 
 def _compile_once(comm: Any) -> None:
-    """On a cold kernel cache (setup not run since the sources changed), rank 0 compiles every
-    kernel first (:func:`lutmpi.warmup.warm_kernels`, ~1.5 min on 2 cores) while the other
-    ranks wait, then they load them: ranks compiling at once would write the same cache entries
-    concurrently, which numba does not guard against. A warm cache (the usual case, checked by
-    rank 0) costs nothing here."""
+    """On a cold kernel cache (setup not run since the sources changed), one rank per cache
+    folder compiles every kernel first (:func:`lutmpi.warmup.warm_kernels`, ~1.5 min on 2 cores)
+    while the other ranks of that folder wait, then they load them: ranks compiling at once
+    would write the same cache entries concurrently, which numba does not guard against. The
+    folder is usually one for all ranks (next to the package, or ``NUMBA_CACHE_DIR`` on a
+    shared file system); node-local caches (``NUMBA_CACHE_DIR`` on a node's scratch disk) make
+    one group per node (:func:`_cache_leader`). A cache warm on every rank (the usual case) costs
+    one reduction."""
     if comm.size == 1:
         return
     from lutmpi import warmup
 
-    cold = comm.bcast(not warmup.kernels_ready() if comm.rank == 0 else None, root=0)
-    if not cold:
+    if not comm.allreduce(0 if warmup.kernels_ready() else 1):
         return
-    if comm.rank == 0:
-        log.warning("the compiled kernels' cache %s is not filled (run scripts/setup.sh after "
-                    "changing the sources): rank 0 compiles them before the other ranks load "
-                    "them", warmup.ready_marker().parent)
-        log.info("kernels compiled in %.1f s", warmup.warm_kernels())
-    comm.Barrier()
+    leader = _cache_leader(comm, warmup.ready_marker().parent)
+    group = comm.Split(leader, comm.rank)
+    try:
+        if comm.rank == leader and not warmup.kernels_ready():
+            log.warning("the compiled kernels' cache %s is not filled (run scripts/setup.sh after "
+                        "changing the sources): rank %d compiles them before the other ranks "
+                        "using that folder load them", warmup.ready_marker().parent, comm.rank)
+            log.info("kernels compiled in %.1f s", warmup.warm_kernels())
+        group.Barrier()
+    finally:
+        group.Free()
+
+
+def _cache_leader(comm: Any, folder: Path) -> int:
+    """The lowest rank whose kernel cache folder is this rank's ``folder``, whatever its path
+    says: one path can name one folder on every node (a shared file system) or one per node
+    (local scratch), which no comparison of names tells apart. Each rank creates a probe file
+    named by a fresh token and its rank in its folder, then looks up the lower ranks' probes by
+    name (a lookup of a name never seen before asks the file server; a directory listing may be
+    cached on NFS); a rank that cannot write there leads itself (numba cannot write its cache
+    there either, so nothing needs ordering). Collective."""
+    token = comm.bcast(os.urandom(8).hex() if comm.rank == 0 else None, root=0)
+    prefix = f".lutmpi-probe-{token}-"
+    probe: Path | None = folder / f"{prefix}{comm.rank}"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe.touch()
+    except OSError:
+        probe = None
+    comm.Barrier()   # every probe is written before any is looked for
+    leader = comm.rank
+    if probe is not None:
+        leader = next(r for r in range(comm.rank + 1) if (folder / f"{prefix}{r}").exists())
+    comm.Barrier()   # every rank has looked before any probe goes
+    if probe is not None:
+        probe.unlink(missing_ok=True)
+    return leader
 
 
 def _batches(comm: Any, todo: np.ndarray, how: str,

@@ -1,7 +1,9 @@
-"""A build on a cold kernel cache under mpirun (issue 14): rank 0 compiles every kernel before
-the other ranks load them, since numba does not guard its cache against processes writing the
-same entries at once; on a warm cache nothing waits. The compile is replaced by a timed stand-in
-(a real cold compile takes ~1.5 min); the ranks, the broadcast and the barrier are real."""
+"""A build on a cold kernel cache under mpirun (issue 14): one rank per cache folder compiles
+every kernel before the other ranks of that folder load them, since numba does not guard its
+cache against processes writing the same entries at once; on a warm cache nothing waits. The
+compile is replaced by a timed stand-in (a real cold compile takes ~1.5 min); the ranks, the
+collectives, the probe files and the barriers are real. Node-local cache folders are made by
+giving rank 0 a folder of its own."""
 
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ import pytest
 
 from lutmpi import warmup
 from lutmpi.config.model import Config, GridConfig, OutputConfig, RailConfig, WheelConfig
-from lutmpi.parallel.runner import build_table
+from lutmpi.parallel.runner import _cache_leader, build_table
 from tests.support import faulty_solver
 
 pytestmark = [pytest.mark.mpi(min_size=2), pytest.mark.timeout(60)]
@@ -32,7 +34,10 @@ class _TimedWarm:
         return faulty_solver.solve(scene, y, yaw, method)
 
 
-def _build(path, ready: bool, monkeypatch, split: str = "dynamic") -> tuple[list, list]:
+def _build(path, ready: bool | None, monkeypatch, split: str = "dynamic") -> tuple[list, list]:
+    """Build on every rank with the compile timed; ``ready`` None: the real mark decides (the
+    caller points :func:`lutmpi.warmup.ready_marker` at the folders), and the stand-in writes
+    it as the warm-up does."""
     from mpi4py import MPI
 
     comm = MPI.COMM_WORLD
@@ -41,10 +46,13 @@ def _build(path, ready: bool, monkeypatch, split: str = "dynamic") -> tuple[list
     def compile_all() -> float:
         t0 = time.time()
         time.sleep(COMPILE_S)
+        if ready is None:
+            warmup.ready_marker().write_text("complete\n")
         compiled.append((t0, time.time()))
         return COMPILE_S
 
-    monkeypatch.setattr(warmup, "kernels_ready", lambda: ready)
+    if ready is not None:
+        monkeypatch.setattr(warmup, "kernels_ready", lambda: ready)
     monkeypatch.setattr(warmup, "warm_kernels", compile_all)
     cfg = Config(wheel=WheelConfig(generator="S1002"), rail=RailConfig(generator="UIC60"),
                  grid=GridConfig(y_mm=(-9.0, 9.0, 5), yaw_rad=(-0.12, 0.12, 3)),
@@ -68,3 +76,44 @@ def test_warm_cache_compiles_nothing_and_nobody_waits(mpi_tmp_path, monkeypatch)
     compiled, started = _build(mpi_tmp_path / "warm.h5", True, monkeypatch)
     assert all(not c for c in compiled)
     assert all(s for s in started)
+
+
+def _folders(base, rank: int):
+    """Rank 0 on a warm folder of its own (a node whose local cache was filled), the other
+    ranks sharing a cold one (another node's)."""
+    folder = base / ("cache-a" if rank == 0 else "cache-b")
+    folder.mkdir(parents=True, exist_ok=True)
+    if rank == 0:
+        (folder / warmup.READY_NAME).write_text("complete\n")
+    return folder
+
+
+def test_node_local_caches_each_compile_once_before_their_ranks_load(mpi_tmp_path,
+                                                                      monkeypatch):
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD
+    folder = _folders(mpi_tmp_path, comm.rank)
+    monkeypatch.setattr(warmup, "ready_marker", lambda: folder / warmup.READY_NAME)
+    comm.Barrier()
+    compiled, started = _build(mpi_tmp_path / "local.h5", None, monkeypatch)
+    assert not compiled[0]                       # its own folder was warm
+    assert len(compiled[1]) == 1 and all(not c for c in compiled[2:])
+    end = compiled[1][0][1]
+    for rank_starts in started[2:]:
+        assert rank_starts and min(rank_starts) >= end    # waited for rank 1's compile
+    assert not [p.name for p in (mpi_tmp_path / "cache-b").iterdir()
+                if p.name.startswith(".lutmpi-probe")]    # the probes are gone
+
+
+def test_cache_leader_is_the_lowest_rank_of_each_folder(mpi_tmp_path):
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD
+    shared = mpi_tmp_path / "shared"
+    assert _cache_leader(comm, shared) == 0
+    assert _cache_leader(comm, _folders(mpi_tmp_path, comm.rank)) == min(comm.rank, 1)
+    # a folder no rank can write (its parent is a file): each rank on its own
+    blocker = mpi_tmp_path / f"file-{comm.rank}"
+    blocker.write_text("")
+    assert _cache_leader(comm, blocker / "cache") == comm.rank
