@@ -117,3 +117,40 @@ def test_cache_leader_is_the_lowest_rank_of_each_folder(mpi_tmp_path):
     blocker = mpi_tmp_path / f"file-{comm.rank}"
     blocker.write_text("")
     assert _cache_leader(comm, blocker / "cache") == comm.rank
+
+
+def test_a_resume_with_every_point_journaled_still_orders_the_compile(mpi_tmp_path,
+                                                                       monkeypatch):
+    """The jump step solves after the grid on every rank, so a resumed build whose grid is all
+    in the journal compiles first too (the ordering does not depend on points being left)."""
+    from mpi4py import MPI
+
+    from lutmpi.parallel import runner
+
+    comm = MPI.COMM_WORLD
+    path = mpi_tmp_path / "resumed.h5"
+
+    def stop_after_the_grid(*args, **kwargs):
+        raise RuntimeError("stopped after the grid")
+
+    cfg = Config(wheel=WheelConfig(generator="S1002"), rail=RailConfig(generator="UIC60"),
+                 grid=GridConfig(y_mm=(-9.0, 9.0, 5), yaw_rad=(-0.12, 0.12, 3)),
+                 output=OutputConfig(methods=("load_centre",)))
+    if comm.rank == 0:   # every point journaled by one process, which then fails: no table
+        with monkeypatch.context() as m:
+            m.setattr(runner, "add_jumps", stop_after_the_grid)
+            with pytest.raises(RuntimeError, match="stopped after the grid"):
+                build_table(cfg, path, None, solver=_TimedWarm(),
+                            scene_factory=faulty_solver.make_scene, checkpoint_interval_s=0.0)
+    comm.Barrier()
+    assert not path.exists()
+    compiled: list[tuple[float, float]] = []
+    monkeypatch.setattr(warmup, "kernels_ready", lambda: False)
+    monkeypatch.setattr(warmup, "warm_kernels",
+                        lambda: compiled.append((time.time(), time.time())) or 0.0)
+    summary = build_table(cfg, path, comm, solver=_TimedWarm(), resume=True,
+                          scene_factory=faulty_solver.make_scene, checkpoint_interval_s=0.0)
+    assert summary.computed == 0 and summary.reused == summary.points
+    assert path.exists()
+    counts = comm.allgather(len(compiled))
+    assert counts[0] == 1 and not any(counts[1:])
