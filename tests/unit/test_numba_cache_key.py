@@ -43,3 +43,54 @@ def test_an_edit_in_any_module_moves_the_cache_and_children_follow(tmp_path):
     # without NUMBA_CACHE_DIR: next to the package
     plain = {k: v for k, v in env.items() if k != "NUMBA_CACHE_DIR"}
     assert Path(_folder(tree, plain)).parent == tree / ".numba_cache"
+
+
+def _tree(tmp_path: Path) -> tuple[Path, dict[str, str]]:
+    tree = tmp_path / "tree"
+    shutil.copytree(PKG, tree / "lutmpi", ignore=shutil.ignore_patterns("__pycache__"))
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("NUMBA_CACHE_DIR", "LUTMPI_NUMBA_CACHE_ROOT", "XDG_CACHE_HOME", "TMPDIR")}
+    env["PYTHONPATH"] = str(tree)
+    return tree, env
+
+
+def _run(tree: Path, env: dict[str, str], code: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", code], cwd=tree, env=env, capture_output=True,
+                          text=True, check=True)
+
+
+UNWRITABLE = "/proc/lutmpi-no-such-folder"   # not even root can create it
+
+
+def test_an_unwritable_cache_folder_moves_to_a_keyed_user_folder_not_numbas_own(tmp_path):
+    """numba skips a cache folder it cannot write and caches in the package's ``__pycache__``
+    or its user folder, neither keyed on lutmpi's sources (the stale cross-file kernels the
+    key exists to prevent); lutmpi moves to a keyed folder it can write, and says so."""
+    tree, env = _tree(tmp_path)
+    env.update(NUMBA_CACHE_DIR=UNWRITABLE, XDG_CACHE_HOME=str(tmp_path / "xdg"))
+    out = _run(tree, env, "import lutmpi, os\n"
+               "from lutmpi.contact.rigid_kernels import rotation\n"
+               "rotation(0.0, 0.0)\n"      # compiles one kernel and caches it
+               "print(lutmpi.NUMBA_CACHE_DIR, os.environ['LUTMPI_NUMBA_CACHE_ROOT'])")
+    folder, root = out.stdout.split()
+    assert Path(root) == tmp_path / "xdg" / "lutmpi"
+    assert Path(folder).parent == Path(root) and Path(folder).name.startswith("lutmpi-")
+    assert "cannot be written" in out.stderr and UNWRITABLE in out.stderr
+    assert list(Path(folder).rglob("*.nbi"))                       # cached in the keyed folder
+    assert not list((tree / "lutmpi").rglob("*.nbi"))              # not in the tree
+    # a child inherits the folder chosen, without trying the unwritable one again
+    child = dict(env, LUTMPI_NUMBA_CACHE_ROOT=root)
+    again = _run(tree, child, "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR)")
+    assert again.stdout.split() == [folder] and "cannot be written" not in again.stderr
+
+
+def test_without_a_writable_user_folder_the_cache_goes_to_tmp_and_else_warns(tmp_path):
+    tree, env = _tree(tmp_path)
+    env.update(NUMBA_CACHE_DIR=UNWRITABLE, XDG_CACHE_HOME=UNWRITABLE + "-xdg",
+               TMPDIR=str(tmp_path / "tmp"))
+    folder = _run(tree, env, "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR)").stdout.strip()
+    assert Path(folder).parent == tmp_path / "tmp" / f"lutmpi-numba-{os.getuid()}"
+    env["TMPDIR"] = UNWRITABLE + "-tmp"
+    out = _run(tree, env, "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR)")
+    assert Path(out.stdout.strip()).parent == Path(UNWRITABLE)   # what the user asked for
+    assert "no writable folder" in out.stderr
