@@ -12,6 +12,7 @@ import pkgutil
 import sys
 from typing import NoReturn
 
+import lutmpi
 from lutmpi import __version__
 from lutmpi.errors import LutmpiError
 
@@ -43,6 +44,8 @@ def main(argv: list[str] | None = None) -> int:
     from lutmpi.log import setup_logging
 
     setup_logging(verbose=args.verbose, comm=getattr(args, "comm", None))
+    if lutmpi.CACHE_NOTE:   # each rank's own cache folder: every rank that has one says so
+        logging.getLogger("lutmpi").warning("%s", lutmpi.CACHE_NOTE)
     try:
         rc = args.func(args)
     except LutmpiError as exc:

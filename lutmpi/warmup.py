@@ -54,12 +54,20 @@ def warm_kernels() -> float:
         solve_pose(scene, 6e-3, 0.05, method)
         warm_rare_paths(scene, get_method(method))
     marker = ready_marker()
-    marker.parent.mkdir(parents=True, exist_ok=True)
-    tmp = marker.with_name(f"{marker.name}.{os.getpid()}.tmp")
-    tmp.write_text("complete\n")
-    os.replace(tmp, marker)
+    tmp = marker.with_name(f"{marker.name}.{os.urandom(8).hex()}.tmp")
+    try:
+        marker.parent.mkdir(parents=True, exist_ok=True)
+        tmp.write_text("complete\n")
+        os.replace(tmp, marker)
+    except OSError as exc:   # numba could not cache there either: compiled, not kept
+        log.warning("the compiled kernels' cache %s cannot be marked complete: %s",
+                    marker.parent, exc)
     return time.perf_counter() - t0
 
 
 if __name__ == "__main__":
+    import lutmpi
+
+    if lutmpi.CACHE_NOTE:
+        print(f"[setup] warning: {lutmpi.CACHE_NOTE}")
     print(f"[setup] compiled kernels ready ({warm_kernels():.1f} s)")

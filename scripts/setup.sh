@@ -115,5 +115,5 @@ print(f"[setup] ok: h5py {h5py.__version__} (mpi, HDF5 {h5py.version.hdf5_versio
 EOF
 
 # --- 7. Compiled kernels ready: numba's on-disk cache (.numba_cache/, keyed on the sources) filled
-# now (~35 s on a cold cache on 2 cores, a second when warm), so a first build does not compile
+# now (~0.5–1.5 min on a cold cache on 2 cores, a second when warm), so a first build does not compile
 "$VPY" -m lutmpi.warmup || die "compiling the numba kernels failed (see above)"

@@ -283,39 +283,41 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
 def _compile_once(comm: Any) -> None:
     """On a cold kernel cache (setup not run since the sources changed), one rank per cache
     folder compiles every kernel first (:func:`lutmpi.warmup.warm_kernels`, ~1.5 min on 2 cores)
-    while the other ranks of that folder wait, then they load them: ranks compiling at once
-    would write the same cache entries concurrently, which numba does not guard against. The
-    folder is usually one for all ranks (next to the package, or ``NUMBA_CACHE_DIR`` on a
-    shared file system); node-local caches (``NUMBA_CACHE_DIR`` on a node's scratch disk) make
-    one group per node (:func:`_cache_leader`). A cache warm on every rank (the usual case) costs
-    one reduction."""
+    while the other ranks wait, then they load them: ranks compiling at once would write the same
+    cache entries concurrently, which numba does not guard against. The folder is usually one
+    for all ranks (next to the package, or ``NUMBA_CACHE_DIR`` on a shared file system);
+    node-local caches (``NUMBA_CACHE_DIR`` on a node's scratch disk) make one per node
+    (:func:`_cache_leader`). A rank whose folder cannot be written compiles what it needs in
+    its first solves (numba cannot cache there either). This orders the ranks of one job; two
+    jobs started together on one cold folder are not ordered. A cache warm on every rank (the
+    usual case) costs one reduction."""
     if comm.size == 1:
         return
     from lutmpi import warmup
 
     if not comm.allreduce(0 if warmup.kernels_ready() else 1):
         return
-    leader = _cache_leader(comm, warmup.ready_marker().parent)
-    group = comm.Split(leader, comm.rank)
-    try:
-        if comm.rank == leader and not warmup.kernels_ready():
-            log.warning("the compiled kernels' cache %s is not filled (run scripts/setup.sh after "
-                        "changing the sources): rank %d compiles them before the other ranks "
-                        "using that folder load them", warmup.ready_marker().parent, comm.rank)
-            log.info("kernels compiled in %.1f s", warmup.warm_kernels())
-        group.Barrier()
-    finally:
-        group.Free()
+    folder = warmup.ready_marker().parent
+    leader, writable = _cache_leader(comm, folder)
+    if comm.rank == leader and writable and not warmup.kernels_ready():
+        log.warning("the compiled kernels' cache %s is not filled (run scripts/setup.sh or "
+                    "`python -m lutmpi.warmup` after changing the sources; with NUMBA_CACHE_DIR "
+                    "on node-local scratch, point it at a shared folder filled once instead): "
+                    "rank %d compiles them (~1.5 min) before any rank using that folder loads "
+                    "them", folder, comm.rank)
+        log.info("kernels compiled in %.1f s", warmup.warm_kernels())
+    comm.Barrier()   # all ranks wait (the build's collective end waits for the compiles anyway)
 
 
-def _cache_leader(comm: Any, folder: Path) -> int:
+def _cache_leader(comm: Any, folder: Path) -> tuple[int, bool]:
     """The lowest rank whose kernel cache folder is this rank's ``folder``, whatever its path
-    says: one path can name one folder on every node (a shared file system) or one per node
-    (local scratch), which no comparison of names tells apart. Each rank creates a probe file
-    named by a fresh token and its rank in its folder, then looks up the lower ranks' probes by
-    name (a lookup of a name never seen before asks the file server; a directory listing may be
-    cached on NFS); a rank that cannot write there leads itself (numba cannot write its cache
-    there either, so nothing needs ordering). Collective."""
+    says, and whether this rank can write there. One path can name one folder on every node (a
+    shared file system) or one per node (local scratch), which no comparison of names tells
+    apart. Each rank creates a probe file named by a fresh token and its rank in its folder,
+    then looks up the lower ranks' probes by name (a lookup of a name never seen before asks
+    the file server; a directory listing may be cached on NFS); a rank that cannot write there
+    leads itself. A job killed between the probes' creation and removal leaves them behind
+    (``.lutmpi-probe-<token>-<rank>``: harmless, and safe to delete). Collective."""
     token = comm.bcast(os.urandom(8).hex() if comm.rank == 0 else None, root=0)
     prefix = f".lutmpi-probe-{token}-"
     probe: Path | None = folder / f"{prefix}{comm.rank}"
@@ -327,11 +329,12 @@ def _cache_leader(comm: Any, folder: Path) -> int:
     comm.Barrier()   # every probe is written before any is looked for
     leader = comm.rank
     if probe is not None:
-        leader = next(r for r in range(comm.rank + 1) if (folder / f"{prefix}{r}").exists())
+        leader = next((r for r in range(comm.rank) if (folder / f"{prefix}{r}").exists()),
+                      comm.rank)
     comm.Barrier()   # every rank has looked before any probe goes
     if probe is not None:
         probe.unlink(missing_ok=True)
-    return leader
+    return leader, probe is not None
 
 
 def _batches(comm: Any, todo: np.ndarray, how: str,

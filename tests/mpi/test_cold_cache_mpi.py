@@ -8,6 +8,7 @@ giving rank 0 a folder of its own."""
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import pytest
 
@@ -51,8 +52,10 @@ def _build(path, ready: bool | None, monkeypatch, split: str = "dynamic") -> tup
         compiled.append((t0, time.time()))
         return COMPILE_S
 
-    if ready is not None:
+    if ready is not None:   # the probes go to a test folder, not the project's cache
         monkeypatch.setattr(warmup, "kernels_ready", lambda: ready)
+        monkeypatch.setattr(warmup, "ready_marker",
+                            lambda: path.parent / "kernels" / warmup.READY_NAME)
     monkeypatch.setattr(warmup, "warm_kernels", compile_all)
     cfg = Config(wheel=WheelConfig(generator="S1002"), rail=RailConfig(generator="UIC60"),
                  grid=GridConfig(y_mm=(-9.0, 9.0, 5), yaw_rad=(-0.12, 0.12, 3)),
@@ -106,17 +109,43 @@ def test_node_local_caches_each_compile_once_before_their_ranks_load(mpi_tmp_pat
                 if p.name.startswith(".lutmpi-probe")]    # the probes are gone
 
 
-def test_cache_leader_is_the_lowest_rank_of_each_folder(mpi_tmp_path):
+def test_cache_leader_is_the_lowest_rank_of_each_folder(mpi_tmp_path, monkeypatch):
     from mpi4py import MPI
 
     comm = MPI.COMM_WORLD
     shared = mpi_tmp_path / "shared"
-    assert _cache_leader(comm, shared) == 0
-    assert _cache_leader(comm, _folders(mpi_tmp_path, comm.rank)) == min(comm.rank, 1)
+    assert _cache_leader(comm, shared) == (0, True)
+    assert _cache_leader(comm, _folders(mpi_tmp_path, comm.rank)) == (min(comm.rank, 1), True)
+    # one folder under a different name on each rank (links, or a mount seen at two paths)
+    link = mpi_tmp_path / f"link-{comm.rank}"
+    link.symlink_to(shared)
+    assert _cache_leader(comm, link) == (0, True)
+    # one name for a different folder on each rank (node-local scratch at the same path)
+    own = mpi_tmp_path / f"cwd-{comm.rank}"
+    own.mkdir()
+    monkeypatch.chdir(own)
+    assert _cache_leader(comm, Path("cache")) == (comm.rank, True)
     # a folder no rank can write (its parent is a file): each rank on its own
     blocker = mpi_tmp_path / f"file-{comm.rank}"
     blocker.write_text("")
-    assert _cache_leader(comm, blocker / "cache") == comm.rank
+    assert _cache_leader(comm, blocker / "cache") == (comm.rank, False)
+
+
+def test_an_unwritable_cache_is_not_compiled_ahead_and_the_build_completes(mpi_tmp_path,
+                                                                          monkeypatch):
+    """numba cannot cache there, so there is nothing to order and no mark to write: each rank
+    compiles what it needs in its own solves (the stand-in would record a compile ahead)."""
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD
+    blocker = mpi_tmp_path / f"file-{comm.rank}"
+    blocker.write_text("")
+    monkeypatch.setattr(warmup, "ready_marker",
+                        lambda: blocker / "cache" / warmup.READY_NAME)
+    comm.Barrier()
+    compiled, started = _build(mpi_tmp_path / "unwritable.h5", None, monkeypatch)
+    assert all(not c for c in compiled) and all(s for s in started)
+    assert (mpi_tmp_path / "unwritable.h5").exists()
 
 
 def test_a_resume_with_every_point_journaled_still_orders_the_compile(mpi_tmp_path,

@@ -71,26 +71,38 @@ def test_an_unwritable_cache_folder_moves_to_a_keyed_user_folder_not_numbas_own(
     out = _run(tree, env, "import lutmpi, os\n"
                "from lutmpi.contact.rigid_kernels import rotation\n"
                "rotation(0.0, 0.0)\n"      # compiles one kernel and caches it
-               "print(lutmpi.NUMBA_CACHE_DIR, os.environ['LUTMPI_NUMBA_CACHE_ROOT'])")
-    folder, root = out.stdout.split()
+               "print(lutmpi.NUMBA_CACHE_DIR, os.environ['LUTMPI_NUMBA_CACHE_ROOT'])\n"
+               "print(lutmpi.CACHE_NOTE)")
+    folder, root, note = out.stdout.split(maxsplit=2)
     assert Path(root) == tmp_path / "xdg" / "lutmpi"
     assert Path(folder).parent == Path(root) and Path(folder).name.startswith("lutmpi-")
-    assert "cannot be written" in out.stderr and UNWRITABLE in out.stderr
+    assert "cannot be written" in note and UNWRITABLE in note and "$NUMBA_CACHE_DIR" in note
     assert list(Path(folder).rglob("*.nbi"))                       # cached in the keyed folder
     assert not list((tree / "lutmpi").rglob("*.nbi"))              # not in the tree
     # a child inherits the folder chosen, without trying the unwritable one again
     child = dict(env, LUTMPI_NUMBA_CACHE_ROOT=root)
-    again = _run(tree, child, "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR)")
-    assert again.stdout.split() == [folder] and "cannot be written" not in again.stderr
+    again = _run(tree, child, "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR, lutmpi.CACHE_NOTE)")
+    assert again.stdout.split() == [folder, "None"]
+    # the command line says it, with the rank, before doing anything else
+    cli = subprocess.run([sys.executable, "-m", "lutmpi.cli", "inspect", str(tmp_path / "no.h5")],
+                         cwd=tree, env=env, capture_output=True, text=True)
+    assert "WARNING lutmpi: the compiled kernels' cache folder" in cli.stderr
 
 
-def test_without_a_writable_user_folder_the_cache_goes_to_tmp_and_else_warns(tmp_path):
+def test_without_a_writable_user_folder_the_cache_goes_to_a_private_tmp_folder(tmp_path):
     tree, env = _tree(tmp_path)
     env.update(NUMBA_CACHE_DIR=UNWRITABLE, XDG_CACHE_HOME=UNWRITABLE + "-xdg",
                TMPDIR=str(tmp_path / "tmp"))
-    folder = _run(tree, env, "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR)").stdout.strip()
-    assert Path(folder).parent == tmp_path / "tmp" / f"lutmpi-numba-{os.getuid()}"
+    code = "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR); print(lutmpi.CACHE_NOTE)"
+    folder = _run(tree, env, code).stdout.split("\n")[0]
+    private = tmp_path / "tmp" / f"lutmpi-numba-{os.getuid()}"
+    assert Path(folder).parent == private and private.stat().st_mode & 0o777 == 0o700
+    # a temporary folder others can write (planted by another user) is never used
+    private.chmod(0o777)
+    squatted = _run(tree, env, code).stdout.split("\n")
+    assert Path(squatted[0]).parent == Path(UNWRITABLE) and "no folder" in squatted[1]
+    # none writable: the folder asked for, and the note says what that costs
     env["TMPDIR"] = UNWRITABLE + "-tmp"
-    out = _run(tree, env, "import lutmpi; print(lutmpi.NUMBA_CACHE_DIR)")
-    assert Path(out.stdout.strip()).parent == Path(UNWRITABLE)   # what the user asked for
-    assert "no writable folder" in out.stderr
+    out = _run(tree, env, code).stdout.split("\n")
+    assert Path(out[0]).parent == Path(UNWRITABLE)
+    assert "every process compiles them" in out[1]
