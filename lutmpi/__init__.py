@@ -82,12 +82,13 @@ def _key_numba_cache() -> str:
     for path in sorted(pkg.rglob("*.py")):
         digest.update(path.relative_to(pkg).as_posix().encode())
         digest.update(path.read_bytes())
-    asked_by = next((f"${v}" for v in ("LUTMPI_NUMBA_CACHE_ROOT", "NUMBA_CACHE_DIR")
-                     if os.environ.get(v)), "the default, next to the package")
-    wanted = (os.environ.get("LUTMPI_NUMBA_CACHE_ROOT") or os.environ.get("NUMBA_CACHE_DIR")
-              or str(pkg.parent / ".numba_cache"))
-    root, CACHE_NOTE = _cache_root(wanted, f"lutmpi-{digest.hexdigest()[:16]}", asked_by)
-    folder = os.path.join(root, f"lutmpi-{digest.hexdigest()[:16]}")
+    var = next((v for v in ("LUTMPI_NUMBA_CACHE_ROOT", "NUMBA_CACHE_DIR") if os.environ.get(v)),
+               None)
+    wanted = os.environ[var] if var else str(pkg.parent / ".numba_cache")
+    name = f"lutmpi-{digest.hexdigest()[:16]}"
+    root, CACHE_NOTE = _cache_root(wanted, name,
+                                   f"${var}" if var else "the default, next to the package")
+    folder = os.path.join(root, name)
     os.environ["LUTMPI_NUMBA_CACHE_ROOT"] = root
     os.environ["NUMBA_CACHE_DIR"] = folder
     if "numba" in sys.modules:  # imported before lutmpi: its configuration is already read
