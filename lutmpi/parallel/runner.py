@@ -295,11 +295,12 @@ def _compile_once(comm: Any) -> None:
         return
     from lutmpi import warmup
 
-    if not comm.allreduce(0 if warmup.kernels_ready() else 1):
+    ready = warmup.kernels_ready()
+    if not comm.allreduce(0 if ready else 1):
         return
     folder = warmup.ready_marker().parent
     leader, writable = _cache_leader(comm, folder)
-    if comm.rank == leader and writable and not warmup.kernels_ready():
+    if comm.rank == leader and writable and not ready:
         log.warning("the compiled kernels' cache %s is not filled (run scripts/setup.sh or "
                     "`python -m lutmpi.warmup` after changing the sources; with NUMBA_CACHE_DIR "
                     "on node-local scratch, point it at a shared folder filled once instead): "
