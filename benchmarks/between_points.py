@@ -7,7 +7,9 @@ the same run (issues 11 and 14).
 
 The config's y axis is kept and its yaw axis replaced by ``--yaw`` (one column). Each tree
 builds the table with its own ``lutmpi build`` (``PYTHONPATH`` = the tree); the queries
-(``Table.interp``, jump-aware) and the direct solves (``solve_pose``) run in this tree. Printed
+(``Table.interp``, jump-aware) and the direct solves (``solve_pose``) run in this tree.
+``--refine-scale 1 3 10`` builds this tree's table once per ``output.refine_scale`` (the error
+between the grid points against the build's run time). Printed
 per table: build wall time, located jumps, extra knots, and the largest and RMS error of each
 wheel's primary rolling radius (um) and contact angle (mrad) over the query poses, split into
 *near* (within 0.02 mm of a located jump) and, by the larger primary contact angle of the two
@@ -59,6 +61,19 @@ def one_column_config(config: Path, method: str, yaw: float, out: Path) -> Path:
     return out
 
 
+def with_refine_scale(config: Path, scale: float, out: Path) -> Path:
+    """The config with ``output.refine_scale = scale``."""
+    lines = config.read_text().splitlines()
+    key = f"refine_scale = {scale!r}"
+    if "[output]" in (line.strip() for line in lines):
+        at = [line.strip() for line in lines].index("[output]")
+        lines.insert(at + 1, key)
+    else:
+        lines += ["[output]", key]
+    out.write_text("\n".join(lines) + "\n")
+    return out
+
+
 def build(tree: Path, config: Path, out: Path) -> float:
     """Wall time (s) of the tree's ``lutmpi build`` (its kernels compiled beforehand)."""
     env = dict(os.environ, PYTHONPATH=str(tree), OMP_NUM_THREADS="1")
@@ -91,6 +106,8 @@ def main() -> None:
     ap.add_argument("--yaw", type=float, default=0.0, help="the column's yaw, rad")
     ap.add_argument("--step-mm", type=float, default=0.05, help="query step along y, mm")
     ap.add_argument("--base", type=Path, help="another tree to build the same table with")
+    ap.add_argument("--refine-scale", type=float, nargs="+", metavar="S",
+                    help="build this tree's table once per output.refine_scale S")
     a = ap.parse_args()
     tmp = Path(tempfile.mkdtemp(prefix="lutmpi-between-"))
     cfgp = one_column_config(a.config.resolve(), a.method, a.yaw, tmp / "one_column.toml")
@@ -100,15 +117,19 @@ def main() -> None:
     ys = np.round(np.arange(y0, y1 + 1e-9, a.step_mm), 6) * 1e-3
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  load {os.getloadavg()}  "
           f"{a.config} {a.method}, yaw {a.yaw} rad, queries every {a.step_mm} mm")
-    trees = [("this", ROOT)] + ([("base", a.base.resolve())] if a.base else [])
-    walls = {name: build(tree, cfgp, tmp / f"{name}.h5") for name, tree in trees}
+    trees = [(f"this, refine_scale {s:g}", ROOT,
+              with_refine_scale(cfgp, s, tmp / f"scale_{k}.toml"))
+             for k, s in enumerate(a.refine_scale)] if a.refine_scale else [("this", ROOT, cfgp)]
+    trees += [("base", a.base.resolve(), cfgp)] if a.base else []
+    walls = {name: build(tree, path, tmp / f"{k}.h5")
+             for k, (name, tree, path) in enumerate(trees)}
     ref = direct(scene, ys, a.yaw, a.method)
     gamma = np.nanmax(np.abs(ref[:, 1, :]), axis=1)
     bands = {"tread": gamma < BANDS_RAD[0],
              "root": (gamma >= BANDS_RAD[0]) & (gamma <= BANDS_RAD[1]),
              "flange": gamma > BANDS_RAD[1]}
-    for name, _ in trees:
-        t = Table.open(tmp / f"{name}.h5")
+    for k, (name, _, _) in enumerate(trees):
+        t = Table.open(tmp / f"{k}.h5")
         rec = t.interp(ys, np.full_like(ys, a.yaw), a.method)
         got = np.stack([rec[D.rolling_radius][:, :, 0], rec[D.contact_angle][:, :, 0]], axis=1)
         err = np.nanmax(np.abs(got - ref), axis=2)

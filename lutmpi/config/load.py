@@ -129,6 +129,7 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "material.young_GPa": _open_closed(0.0, 1000.0),
     "material.poisson": ((lambda v: 0.0 < v < 0.5), "a number in (0, 0.5)"),
     "flange.base_height_mm": _closed(0.0, 50.0),
+    "output.refine_scale": _closed(0.1, 1000.0),
     "wear.wheel.flange_thinning_mm": _closed(0.0, 15.0),
     "wear.wheel.tread_hollowing_mm": _closed(0.0, 10.0),
     "wear.rail.vertical_mm": _closed(0.0, 30.0),

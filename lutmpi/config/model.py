@@ -298,6 +298,7 @@ class OutputConfig:
     methods: tuple[str, ...] = ("load_centre",)
     quantities: tuple[str, ...] = ("all",)
     refine: bool = True     # refine the pieces between contact jumps (lutmpi/table/jumps.py)
+    refine_scale: float = 1.0  # factor on the refinement's tolerances (> 1: coarser, cheaper)
 
 
 @dataclass(frozen=True)

@@ -78,7 +78,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         # the grid nodes as the search sees them: the fields a solved record holds (not timing)
         limits = {f.name: arrays[f.name] for f in lfields}
         js, n_cells = _locate(comm, grid, limits, solve, lfields, config.output.refine, mesh,
-                              split)
+                              split, config.output.refine_scale)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
@@ -88,6 +88,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
             "refine_mesh_spacing_m": json.dumps(None if mesh is None else mesh.spacing.tolist()),
             "refine_mesh_centroid": bool(mesh is not None and mesh.centroid),
             "refine_mesh_step_fraction": _jumps.MESH_STEP_FRACTION,
+            "refine_scale": float(config.output.refine_scale),
             # the same value on every rank (collective metadata): rank 0's
             "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
         if comm.rank == 0:
@@ -180,10 +181,10 @@ def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
 
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
-            refine: bool, mesh: _jumps.MeshResolution | None, split: str = "dynamic"
-            ) -> tuple[_jumps.JumpSet, int]:
+            refine: bool, mesh: _jumps.MeshResolution | None, split: str = "dynamic",
+            scale: float = 1.0) -> tuple[_jumps.JumpSet, int]:
     """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
-    interval, both shared among the ranks."""
+    interval with the factor ``scale`` on its tolerances, both shared among the ranks."""
     t0 = time.perf_counter()
     cells = _jumps.candidate_cells(arrays)
     res = _share(comm, cells, lambda c: _jumps.refine_cell(arrays, grid.y, grid.yaw, c, solve),
@@ -197,7 +198,8 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
                                     [(y, r) for jj, y, r in extra if jj == j])
         items += [(j, knots[k], knots[k + 1]) for k in _jumps.refinement_items(knots)]
     refined = _share(comm, items, lambda it: _jumps.refine_interval(
-        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve, mesh=mesh), split)
+        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve, mesh=mesh,
+        scale=scale), split)
     log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),
               t1 - t0, len(items), time.perf_counter() - t1)
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]

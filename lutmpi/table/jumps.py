@@ -277,10 +277,13 @@ def _primary_max(recs: Sequence[Record], name: str) -> np.ndarray:
     return np.array(out)
 
 
-def tolerances(recs: Sequence[Record], mesh: MeshResolution | None) -> dict[str, Any]:
+def tolerances(recs: Sequence[Record], mesh: MeshResolution | None, scale: float = 1.0
+               ) -> dict[str, Any]:
     """Refinement tolerance per quantity for an interval with knot and midpoint records
     ``recs``: :data:`REFINE_TOL`, raised for a mesh method to :data:`MESH_STEP_FRACTION` of the
-    step its contact point moves in (per wheel, primary contact).
+    step its contact point moves in (per wheel, primary contact), all times ``scale`` (the
+    config's ``output.refine_scale``: above 1 a coarser table between the grid points, built
+    with fewer solves).
 
     The point moves along the profile in steps of ``h / n``: ``n = 1`` for a method that picks
     a node; for a centroid, ``n = 2 a / h`` node columns across the patch, whose half-width
@@ -296,12 +299,20 @@ def tolerances(recs: Sequence[Record], mesh: MeshResolution | None) -> dict[str,
         The records of the interval (ends and midpoint).
     mesh : MeshResolution or None
         The method's mesh; None for a method without one (the reference).
+    scale : float
+        Factor on every tolerance (1: as above).
 
     Returns
     -------
     dict
         Quantity -> tolerance (float, or (2,) per wheel for the per-contact quantities).
     """
+    tol = _raised(recs, mesh)
+    return tol if scale == 1.0 else {name: t * scale for name, t in tol.items()}
+
+
+def _raised(recs: Sequence[Record], mesh: MeshResolution | None) -> dict[str, Any]:
+    """:func:`tolerances` before its scale."""
     tol: dict[str, Any] = dict(REFINE_TOL)
     names = recs[0].keys()
     curv = D.curv_wheel_transverse in names and D.curv_rail_transverse in names
@@ -358,11 +369,13 @@ def _miss(r0: Record, r1: Record, rm: Record, tols: dict[str, Any]) -> float:
 
 def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, solve: PoseSolver,
                     min_width: float = MIN_WIDTH_M, mesh: MeshResolution | None = None,
-                    parent: tuple[float, dict] | None = None) -> list[tuple[float, Record]]:
+                    parent: tuple[float, dict] | None = None, scale: float = 1.0
+                    ) -> list[tuple[float, Record]]:
     """Midpoint solves of one interval of a piece, recursively where the straight line misses
-    the midpoint by more than its :func:`tolerances` (``mesh``: the method's mesh, as there)
-    and by less than :data:`REFINE_GAIN` times the parent interval's miss (``parent``: its miss
-    and tolerances; both misses in the parent's tolerances).
+    the midpoint by more than its :func:`tolerances` (``mesh``: the method's mesh, ``scale``:
+    the factor on the tolerances, as there) and by less than :data:`REFINE_GAIN` times the
+    parent interval's miss (``parent``: its miss and tolerances; both misses in the parent's
+    tolerances).
 
     A midpoint whose discrete state (status, contact count) differs from an end is dropped and
     not refined further: a jump the grid-level search did not see (two changes that cancel in
@@ -381,12 +394,14 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
     if km != _disc(r0) or km != _disc(r1):
         return []
     out = [(xm, rm)]
-    tols = tolerances((r0, r1, rm), mesh)
+    tols = tolerances((r0, r1, rm), mesh, scale)
     miss = _miss(r0, r1, rm, tols)
     if miss > 1.0 and (parent is None
                        or _miss(r0, r1, rm, parent[1]) < REFINE_GAIN * parent[0]):
-        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, (miss, tols)) + out
-               + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, mesh, (miss, tols)))
+        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, (miss, tols), scale)
+               + out
+               + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, mesh, (miss, tols),
+                                 scale))
     return out
 
 
@@ -478,10 +493,11 @@ def assemble(jumps: Sequence[Jump], extra: Sequence[tuple[int, float, Record]], 
 
 def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.ndarray,
                  solve: PoseSolver, fields: Sequence[Field], *, refine: bool = True,
-                 mesh: MeshResolution | None = None, **kw: Any) -> JumpSet:
+                 mesh: MeshResolution | None = None, scale: float = 1.0,
+                 **kw: Any) -> JumpSet:
     """Every jump of one method of a table, and the refinement knots, serially (the steps the
     build runs in parallel: :func:`candidate_cells`, :func:`refine_cell`, :func:`column_knots`,
-    :func:`refine_interval`, :func:`assemble`)."""
+    :func:`refine_interval` with the factor ``scale`` on its tolerances, :func:`assemble`)."""
     found: list[Jump] = []
     extra: list[tuple[int, float, Record]] = []
     for cell in candidate_cells(arrays, kw.get("threshold", CANDIDATE_M)):
@@ -496,7 +512,7 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
                 (x0, r0, _), (x1, r1, _) = knots[k], knots[k + 1]
                 extra += [(j, y, r) for y, r in
                           refine_interval(x0, r0, x1, r1, float(yaw_axis[j]), solve,
-                                          mesh=mesh)]
+                                          mesh=mesh, scale=scale)]
     return assemble(found, extra, yaw_axis.size, fields)
 
 

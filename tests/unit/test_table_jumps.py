@@ -209,6 +209,32 @@ def test_located_jumps_lie_where_direct_solves_put_them(tmp_path):
     assert np.abs(jy - quiet).min() > 5e-4 and not change(quiet - 1e-5, quiet + 1e-5)
 
 
+def test_refine_scale_is_stored_and_coarsens_only_the_refinement(tmp_path):
+    """``output.refine_scale = 10`` on the Manchester band: the same jumps (their bisection does
+    not use it), fewer extra knots, and the factor in the jumps group's attributes."""
+    import h5py
+
+    from lutmpi.table import Table
+
+    cfg = _manchester_1d(tmp_path, (4.0, 7.0, 7))
+    coarse = tmp_path / "coarse.toml"
+    coarse.write_text(cfg.read_text() + "refine_scale = 10.0\n")
+    tables = {}
+    for name, path in (("fine", cfg), ("coarse", coarse)):
+        tables[name] = tmp_path / f"{name}.h5"
+        assert main(["build", str(path), "-o", str(tables[name])]) == 0
+    knots, scales = {}, {}
+    for name, path in tables.items():
+        with h5py.File(path, "r") as f:
+            g = f["reference/jumps"]
+            knots[name] = int(np.isfinite(g["knot_y"][()]).sum())
+            scales[name] = float(g.attrs["refine_scale"])
+    assert scales == {"fine": 1.0, "coarse": 10.0}
+    np.testing.assert_array_equal(Table.open(tables["fine"]).jump_positions(),
+                                  Table.open(tables["coarse"]).jump_positions())
+    assert knots["coarse"] < knots["fine"], knots
+
+
 def test_simulate_leaving_the_table_stops_with_a_message_naming_the_pose(tmp_path, capsys):
     """A ±0.2 mm table: the paper's initial lateral velocity carries the wheelset beyond it
     (first peak ~0.44 mm at 27 m/s on this profile pair, README); the run stops non-zero."""
@@ -377,6 +403,36 @@ def test_variation_below_the_mesh_step_is_not_chased_and_above_it_is_refined_to_
     assert (c * (2 * widths) ** 2 / 4 <= floor).all()
     assert (c * (4 * widths) ** 2 / 4 > floor).all()
     assert len(knots) == 7
+
+
+def test_refine_scale_multiplies_every_tolerance_and_refines_to_it():
+    """``output.refine_scale``: every tolerance (fixed or the mesh's) times the factor, 1 the
+    same numbers; a bowl ``c y^2`` (midpoint miss ``c w^2 / 4`` on an interval of width ``w``)
+    is refined until each last interval meets the scaled rolling-radius tolerance and its
+    parent does not, so a factor of 16 leaves knots 4 times wider."""
+    recs = [flange_record(0.47, kappa=80.0)] * 3
+    for mesh in (None, node_mesh(), node_mesh(centroid=True)):
+        base = tj.tolerances(recs, mesh)
+        same, scaled = tj.tolerances(recs, mesh, 1.0), tj.tolerances(recs, mesh, 3.0)
+        assert same.keys() == scaled.keys() == base.keys()
+        for name in base:
+            np.testing.assert_array_equal(same[name], base[name])
+            np.testing.assert_allclose(scaled[name], 3.0 * np.asarray(base[name]), rtol=1e-15)
+    c, w = 1e2, 4e-3                              # misses 400 um over 4 mm
+
+    def bowl(y, yaw):
+        return flange_record(0.47 + c * y * y)
+
+    widths = {}
+    for scale in (1.0, 16.0):
+        knots = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl,
+                                   scale=scale)
+        widths[scale] = np.diff([0.0] + [y for y, _ in knots] + [w])
+        tol = scale * tj.REFINE_TOL["rolling_radius"]
+        assert (c * (2 * widths[scale]) ** 2 / 4 <= tol).all()
+        assert (c * (4 * widths[scale]) ** 2 / 4 > tol).all()
+    assert widths[16.0].min() == pytest.approx(4 * widths[1.0].min())
+    assert widths[1.0].size > 3 * widths[16.0].size
 
 
 def test_records_cross_ranks_as_columns_unchanged():
