@@ -288,9 +288,9 @@ def _compile_once(comm: Any) -> None:
     for all ranks (next to the package, or ``NUMBA_CACHE_DIR`` on a shared file system);
     node-local caches (``NUMBA_CACHE_DIR`` on a node's scratch disk) make one per node
     (:func:`_cache_leader`). A rank whose folder cannot be written compiles what it needs in
-    its first solves (numba cannot cache there either). This orders the ranks of one job; two
-    jobs started together on one cold folder are not ordered. A cache warm on every rank (the
-    usual case) costs one reduction."""
+    its first solves (numba cannot cache there either). Two jobs on one cold folder are
+    ordered by the compile's lock (:func:`lutmpi.warmup.compile_lock`). A cache warm on every
+    rank (the usual case) costs one reduction."""
     if comm.size == 1:
         return
     from lutmpi import warmup
