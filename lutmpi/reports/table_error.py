@@ -56,7 +56,8 @@ def _primary(values: np.ndarray, name: str) -> np.ndarray:
 class TableError:
     """Errors of one table. ``stats[interp][quantity][region] = (max, rms, count)`` in SI
     (region ``"away"`` / ``"near"`` the jumps); ``build_s``: the build's wall time plus the
-    jump step of this method (s)."""
+    jump step of this method (s); ``refine_scale``: the factor on the refinement's tolerances
+    it was built with (``output.refine_scale``; 1 for a table older than the setting)."""
 
     name: str
     n_poses: int
@@ -66,6 +67,7 @@ class TableError:
     file_bytes: int
     knots: int
     jumps: int
+    refine_scale: float = 1.0
 
     def max_away(self, quantity: str, interp: str = "jump_aware") -> float:
         return self.stats[interp][quantity]["away"][0]
@@ -107,12 +109,13 @@ def measure(table: Any, solve: Callable[[float, float], dict[str, np.ndarray]],
                                     for region, mask in (("away", ~near), ("near", near))}
     knots = int(np.isfinite(table.jumps[method]["arrays"][J.knot_y]).sum()) \
         if method in table.jumps else 0
-    post = float(table.jumps[method]["attrs"].get("wall_time_s", 0.0)) \
-        if method in table.jumps else 0.0
+    jattrs = table.jumps[method]["attrs"] if method in table.jumps else {}
+    post = float(jattrs.get("wall_time_s", 0.0))
     return TableError(name or os.path.basename(table.path), int(y.size), int((~ok).sum()), stats,
                       float(table.attrs.get("wall_time_s", math.nan)) + post,
                       os.path.getsize(table.path), table.y.size * table.yaw.size + knots,
-                      int(np.isfinite(table.jump_positions(method)).sum()))
+                      int(np.isfinite(table.jump_positions(method)).sum()),
+                      float(jattrs.get("refine_scale", 1.0)))
 
 
 def _stat(err: np.ndarray) -> tuple[float, float, int]:
@@ -138,9 +141,10 @@ def markdown(results: Sequence[TableError], target: dict[str, float] | None = No
     lines = ["## Table error against run time", "",
              "Off-grid poses (cell midpoints and seeded random poses) checked by direct solves "
              f"with the table's method; near = within {NEAR_M * 1e3:.3f} mm of a located jump.",
-             "", "| table | poses | build s | MB | knots | jumps | quantity | jump-aware max "
-             "away | RMS away | max near | linear max away | linear RMS away | linear max near |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "", "| table | poses | build s | MB | knots | jumps | refine scale | quantity | "
+             "jump-aware max away | RMS away | max near | linear max away | linear RMS away | "
+             "linear max near |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         for q, (scale, unit) in QUANTITIES.items():
             if q not in r.stats["jump_aware"]:
@@ -148,7 +152,8 @@ def markdown(results: Sequence[TableError], target: dict[str, float] | None = No
             a, b = r.stats["jump_aware"][q], r.stats["linear"][q]
             lines.append(
                 f"| {r.name} | {r.n_poses} | {r.build_s:.2f} | {r.file_bytes / 1e6:.2f} | "
-                f"{r.knots} | {r.jumps} | {q} ({unit}) | {a['away'][0] * scale:.3g} | "
+                f"{r.knots} | {r.jumps} | {r.refine_scale:g} | {q} ({unit}) | "
+                f"{a['away'][0] * scale:.3g} | "
                 f"{a['away'][1] * scale:.3g} | {a['near'][0] * scale:.3g} | "
                 f"{b['away'][0] * scale:.3g} | {b['away'][1] * scale:.3g} | "
                 f"{b['near'][0] * scale:.3g} |")
@@ -158,5 +163,5 @@ def markdown(results: Sequence[TableError], target: dict[str, float] | None = No
                          for q, v in target.items())
         lines += ["", f"Target ({want}, away from jumps): " + (
             f"cheapest table **{best.name}** ({best.build_s:.2f} s to build)" if best
-            else "no table meets it: refine the grid")]
+            else "no table meets it: refine the grid (or lower output.refine_scale)")]
     return "\n".join(lines) + "\n"

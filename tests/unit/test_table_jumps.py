@@ -211,7 +211,8 @@ def test_located_jumps_lie_where_direct_solves_put_them(tmp_path):
 
 def test_refine_scale_is_stored_and_coarsens_only_the_refinement(tmp_path):
     """``output.refine_scale = 10`` on the Manchester band: the same jumps (their bisection does
-    not use it), fewer extra knots, and the factor in the jumps group's attributes."""
+    not use it), fewer extra knots, the factor in the jumps group's attributes and in the
+    table-error report's rows (error against run time)."""
     import h5py
 
     from lutmpi.table import Table
@@ -233,6 +234,12 @@ def test_refine_scale_is_stored_and_coarsens_only_the_refinement(tmp_path):
     np.testing.assert_array_equal(Table.open(tables["fine"]).jump_positions(),
                                   Table.open(tables["coarse"]).jump_positions())
     assert knots["coarse"] < knots["fine"], knots
+    rep = tmp_path / "rep"
+    assert main(["report", str(tables["fine"]), "-o", str(rep), "--table-error",
+                 str(tables["coarse"])]) == 0
+    rows = [line.split("|") for line in (rep / "table_error.md").read_text().splitlines()
+            if line.startswith("| ") and "rolling_radius" in line]
+    assert [(r[1].strip(), r[7].strip()) for r in rows] == [("fine.h5", "1"), ("coarse.h5", "10")]
 
 
 def test_simulate_leaving_the_table_stops_with_a_message_naming_the_pose(tmp_path, capsys):
