@@ -74,12 +74,21 @@ def scene_from_config(cfg: Config) -> Scene:
     )
 
 
+#: how far (m) the file's first or last point may lie beyond the profile's ends and still name
+#: that end (reading drops the points a steep face shadows: a file extending its gauge face
+#: straight down, as avg_low2.ban does by 1 um, ends at the point above)
+END_TOL_M = 1e-5
+
+
 def _gauge_v(point: str | float, rail: Profile) -> float | None:
     """The rail profile's lateral coordinate of an explicit gauge point (m), or None."""
     if point == "depth":
         return None
     if point in ("first", "last"):
-        return rail.meta[f"file_{point}_point_mm"][0] * 1e-3
+        v = rail.meta[f"file_{point}_point_mm"][0] * 1e-3
+        if rail.y_min - END_TOL_M <= v <= rail.y_max + END_TOL_M:
+            v = min(max(v, rail.y_min), rail.y_max)
+        return v
     return float(point) * 1e-3
 
 

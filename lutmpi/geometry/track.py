@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.interpolate import CubicSpline
+from scipy.optimize import brentq
 
 from lutmpi.errors import GeometryError
 from lutmpi.profiles.model import Profile
@@ -96,16 +97,24 @@ class PlacedRail:
         w = profile.z_at(v)
         cd, sd = np.cos(inclination), np.sin(inclination)
         vp, wp = v * cd - w * sd, v * sd + w * cd
-        w_top = float(wp.max())
+        k_top = int(np.argmax(wp))
+        w_top = float(wp[k_top])
         if gauge_v is None:
-            v_gp = cls._gauge_v(vp, wp, w_top - gauge_depth, profile.name)
+            v_gp = cls._gauge_v(profile, v, vp, wp, inclination, w_top - gauge_depth)
         else:
             if not profile.y_min <= gauge_v <= profile.y_max:
                 raise GeometryError(f"rail {profile.name}: gauge point v = {gauge_v * 1e3:.3f} mm "
-                                    "is outside the profile")
+                                    f"is outside the profile (v = {profile.y_min * 1e3:.3f} .. "
+                                    f"{profile.y_max * 1e3:.3f} mm)")
             w_gp = float(profile.z_at(gauge_v))
             v_gp = float(gauge_v * cd - w_gp * sd)
             gauge_depth = w_top - float(gauge_v * sd + w_gp * cd)
+            if v_gp >= vp[k_top]:
+                raise GeometryError(
+                    f"rail {profile.name}: the gauge point v = {gauge_v * 1e3:.3f} mm is on the "
+                    f"field side of the top of rail (v = {v[k_top] * 1e3:.3f} mm): it must be on "
+                    "the gauge face, toward the track centre; give rail.gauge_point as the other "
+                    "end of the file (\"first\" / \"last\") or as a number (mm)")
         u = 0.5 * gauge + (vp - v_gp)
         z = wp - w_top
         # keep the part around the top that is a function of u and not steeper than the limit
@@ -128,19 +137,30 @@ class PlacedRail:
         )
 
     @staticmethod
-    def _gauge_v(vp: np.ndarray, wp: np.ndarray, w_line: float, name: str) -> float:
-        """Smallest v' of the curve where it lies at or above ``w_line`` (exact at crossings)."""
+    def _gauge_v(profile: Profile, v: np.ndarray, vp: np.ndarray, wp: np.ndarray,
+                 inclination: float, w_line: float) -> float:
+        """Smallest v' of the inclined profile where it lies at or above ``w_line``: at a
+        crossing of the line, solved on the profile's own curve (between samples, a chord of
+        the gauge corner misses it by ~1-2 um where the face is steep); ``v`` the samples'
+        profile coordinate, ``(vp, wp)`` the inclined samples."""
         above = wp >= w_line
-        if not above.any() or above.all():
+        top = float(wp.max())
+        if above[0]:
+            # the gauge side ends above the line: the gauge face there is not in the data
             raise GeometryError(
-                f"rail {name}: no gauge point — the profile does not reach {-(w_line):.4f} m "
-                "below the top of rail on the gauge side"
-            )
+                f"rail {profile.name}: no gauge point — the gauge side of the profile ends "
+                f"{(top - wp[0]) * 1e3:.2f} mm below the top of rail, above the gauge depth of "
+                f"{(top - w_line) * 1e3:.2f} mm; give a smaller rail.gauge_depth_mm, or "
+                "rail.gauge_point (\"first\" / \"last\": that end of the file, or v in mm)")
+        cd, sd = np.cos(inclination), np.sin(inclination)
+
+        def level(x: float) -> float:
+            return float(x * sd + profile.z_at(x) * cd) - w_line
+
         cands = [vp[above].min()]
-        idx = np.nonzero(above[:-1] != above[1:])[0]
-        for i in idx:
-            t = (w_line - wp[i]) / (wp[i + 1] - wp[i])
-            cands.append(vp[i] + t * (vp[i + 1] - vp[i]))
+        for i in np.nonzero(above[:-1] != above[1:])[0]:
+            x = brentq(level, v[i], v[i + 1], xtol=1e-12, rtol=4 * np.finfo(float).eps)
+            cands.append(float(x * cd - profile.z_at(x) * sd))
         return float(min(cands))
 
     def __post_init__(self) -> None:

@@ -12,6 +12,7 @@ from contact_fixtures import INC_20, INC_40
 from scipy.optimize import brentq
 
 from lutmpi.contact.mesh import WheelMesh
+from lutmpi.errors import GeometryError
 from lutmpi.geometry.pose import wheelset_rotation
 from lutmpi.geometry.track import PlacedRail, WheelGeometry
 from lutmpi.paths import REPO_ROOT
@@ -56,14 +57,84 @@ def _gauge_u_of_curve(u, z, depth=DEPTH):
 
 @pytest.mark.parametrize("name", RAILS)
 def test_gauge_point_at_half_gauge(name):
+    """The gauge point lies on the profile's own curve ``DEPTH`` below the top, at u = gauge / 2:
+    against our own resampling every 1 um (a chord of it misses the curve by < 1 nm), and where
+    the placed rail's spline crosses the gauge depth. A crossing taken between the placement's
+    own samples (0.05 mm apart in v, ~0.4 mm of arc on a steep face) missed it by 1.7 um on the
+    canted Manchester rail."""
     gen, inc = RAILS[name]
-    rail = PlacedRail.place(gen(), inc, GAUGE, DEPTH)
-    u_gp = _gauge_u_of_curve(rail.u, rail.z)
-    print(f"\n{name}: gauge point u = {u_gp * 1e3:.5f} mm (expected 717.5)")
-    assert u_gp == pytest.approx(0.7175, abs=1e-6)
+    prof = gen()
+    rail = PlacedRail.place(prof, inc, GAUGE, DEPTH)
+    vp, wp, top, _ = _own_placement(prof, inc)
+    v_gp = _gauge_u_of_curve(vp, wp - top)
+    assert rail.v_gp == pytest.approx(v_gp, abs=1e-8)
+    u_cross = brentq(lambda u: rail.height(u) + DEPTH, rail.u_min, 0.7175 + 2e-3)
+    print(f"\n{name}: the placed rail crosses the gauge depth at u = {u_cross * 1e3:.5f} mm "
+          "(expected 717.5)")
+    assert u_cross == pytest.approx(0.7175, abs=5e-7)
     # the right rail is the mirror image (u = -y); that the pose solve really uses it so is
     # checked through the solver in test_contact_reference.py::test_centred_pose_is_symmetric
     # (issue 16: a negated restatement of the line above used to stand here)
+
+
+# -- a measured rail whose gauge side ends above the gauge depth (review of 2026-11-24) ---------
+def _avg_low():
+    """The averaged measured low rail: its gauge side ends ~12.7 mm below the top (1:40), and
+    its file lists the field side first."""
+    return read_profile(REPO_ROOT / "profiles" / "avg_low2.ban", kind="rail")
+
+
+def test_a_gauge_side_ending_above_the_gauge_depth_says_how_deep_it_reaches():
+    """``gauge_point = "depth"`` cannot find the gauge face 14 mm down: the error says how deep
+    the gauge side reaches (our own inclination of the profile) and which keys to set; at a
+    depth it reaches, the gauge point is found."""
+    prof = _avg_low()
+    vp, wp, top, _ = _own_placement(prof, INC_40)
+    reach = top - wp[np.argmin(vp)]
+    with pytest.raises(GeometryError, match=rf"ends {reach * 1e3:.2f} mm below the top of rail, "
+                                            r"above the gauge depth of 14\.00 mm") as err:
+        PlacedRail.place(prof, INC_40, GAUGE, DEPTH)
+    assert "rail.gauge_depth_mm" in str(err.value) and "rail.gauge_point" in str(err.value)
+    rail = PlacedRail.place(prof, INC_40, GAUGE, reach - 1e-4)
+    assert brentq(lambda u: rail.height(u) + reach - 1e-4, rail.u_min, 0.7175 + 2e-3) == \
+        pytest.approx(0.7175, abs=5e-7)
+
+
+def test_a_gauge_point_on_the_field_side_of_the_top_is_refused():
+    """The file's first point is on the field side: as the gauge point it put the rail ~76 mm
+    toward the track centre, and the wheels rode on their flange tips, reported converged."""
+    prof = _avg_low()
+    first = prof.meta["file_first_point_mm"][0] * 1e-3
+    with pytest.raises(GeometryError, match="on the field side of the top of rail"):
+        PlacedRail.place(prof, INC_40, GAUGE, DEPTH, gauge_v=first)
+
+
+def test_the_files_last_point_names_the_gauge_side_end_even_when_reading_dropped_it(tmp_path):
+    """avg_low2.ban extends its gauge face straight down by 1 um as its last point, which
+    reading drops (shadowed by the steep face): ``gauge_point = "last"`` is the profile's
+    gauge-side end, not an error; the pose at y = 0 is then on the treads."""
+    from lutmpi.config import load_config
+    from lutmpi.pose.solve import solve_pose
+    from lutmpi.scene import Scene
+
+    prof = _avg_low()
+    assert prof.meta["file_last_point_mm"][0] * 1e-3 < prof.y_min   # dropped, by ~1 um
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(f'[wheel]\nprofile = "{REPO_ROOT / "profiles" / "avg_wheel.whl"}"\n'
+                   f'[rail]\nprofile = "{REPO_ROOT / "profiles" / "avg_low2.ban"}"\n'
+                   'inclination = "1:40"\ngauge_point = "last"\n[grid]\ny_mm = [-1.0, 1.0, 3]\n'
+                   'yaw_rad = [0.0, 0.0, 1]\n[contact]\nmethod = "reference"\n'
+                   '[output]\nmethods = ["reference"]\n')
+    scene = Scene.from_config(load_config(cfg))
+    rail = scene.side("left").rail
+    w = float(prof.z_at(prof.y_min))
+    assert rail.v_gp == pytest.approx(prof.y_min * np.cos(INC_40) - w * np.sin(INC_40), abs=1e-12)
+    res = solve_pose(scene, 0.0, 0.0, "reference")
+    assert res.success
+    for side in ("left", "right"):            # a worn pair: two tread contacts per wheel here
+        assert res.contacts[side]
+        for c in res.contacts[side]:
+            assert abs(c.contact_angle) < np.radians(5.0), (side, c.contact_angle)
 
 
 @pytest.mark.parametrize("name", RAILS)
