@@ -35,7 +35,13 @@ the reference's evaluation count by one in 324 paper and 224 Manchester poses; t
 methods' k_c by up to 5e-2 N/m of 5e10; the load centre moved in 1 paper pose (y = -5.5 mm,
 yaw -0.06 rad, one that brackets), by 13 um / 5e-4 rad as at the first re-derivation, and in 13
 Manchester poses by up to 0.6 um / 4e-7 rad: flange contacts whose k_c iteration ends on
-another node).
+another node); re-derived when the rail's gauge point came to be solved on the profile's own
+curve instead of between its 0.05 mm samples (2026-11-24, a reviewer's find: the placed rail
+moved laterally by 0.40 um on the paper's UIC60 at 1:20 and by 1.93 um on the Manchester rail,
+whose gauge face is steeper there; every pose moved, the reference's z_g by a median 5 nm /
+0.13 um and a 99th percentile 2.4 / 9.5 um (paper / Manchester: flange contacts, where a lateral
+shift is multiplied by the tangent of the contact angle), and near jumps a second contact
+appears or goes in a few poses).
 """
 
 from __future__ import annotations
