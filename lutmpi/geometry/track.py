@@ -147,11 +147,16 @@ class PlacedRail:
         top = float(wp.max())
         if above[0]:
             # the gauge side ends above the line: the gauge face there is not in the data
+            ends = {k: profile.meta.get(f"file_{k}_point_mm") for k in ("first", "last")}
+            gauge_end = [f'"{k}"' for k, p in ends.items()
+                         if p is not None and abs(p[0] * 1e-3 - v[0]) < 1e-4]
             raise GeometryError(
                 f"rail {profile.name}: no gauge point — the gauge side of the profile ends "
                 f"{(top - wp[0]) * 1e3:.2f} mm below the top of rail, above the gauge depth of "
                 f"{(top - w_line) * 1e3:.2f} mm; give a smaller rail.gauge_depth_mm, or "
-                "rail.gauge_point (\"first\" / \"last\": that end of the file, or v in mm)")
+                "rail.gauge_point (" + (f"{gauge_end[0]}: the file's gauge-side end, at "
+                if gauge_end else "the file's gauge-side end, at ") +
+                f"v = {v[0] * 1e3:.3f} mm, or another v in mm)")
         cd, sd = np.cos(inclination), np.sin(inclination)
 
         def level(x: float) -> float:

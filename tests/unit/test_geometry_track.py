@@ -94,7 +94,9 @@ def test_a_gauge_side_ending_above_the_gauge_depth_says_how_deep_it_reaches():
     with pytest.raises(GeometryError, match=rf"ends {reach * 1e3:.2f} mm below the top of rail, "
                                             r"above the gauge depth of 14\.00 mm") as err:
         PlacedRail.place(prof, INC_40, GAUGE, DEPTH)
-    assert "rail.gauge_depth_mm" in str(err.value) and "rail.gauge_point" in str(err.value)
+    assert "rail.gauge_depth_mm" in str(err.value)
+    assert f'rail.gauge_point ("last": the file\'s gauge-side end, at v = {prof.y_min * 1e3:.3f} ' \
+        'mm' in str(err.value)
     rail = PlacedRail.place(prof, INC_40, GAUGE, reach - 1e-4)
     assert brentq(lambda u: rail.height(u) + reach - 1e-4, rail.u_min, 0.7175 + 2e-3) == \
         pytest.approx(0.7175, abs=5e-7)
