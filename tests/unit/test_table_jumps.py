@@ -284,6 +284,10 @@ def test_table_error_report_equals_a_direct_recomputation(tmp_path):
     res = table_error.measure(table, solve, n_random=10)
     y, yaw = table_error.test_poses(table.y, table.yaw, 10)
     assert res.n_poses == y.size == 6 + 10 and res.n_failed == 0
+    # off the knots: a cell midpoint is the refinement's first knot, where the table reads a
+    # stored solve back and would report no error at all
+    knots = table.jumps["reference"]["arrays"]["knot_y"]
+    assert not np.isin(y, knots[np.isfinite(knots)]).any()
     q = table.interp(y, yaw, info=True)
     lin = table.interp(y, yaw, jump_aware=False)
     away = np.abs(q["jump_distance"]) > table_error.NEAR_M
