@@ -20,9 +20,10 @@ def register(subparsers: Any) -> None:
         description="Equivalent conicity tan(gamma_e) against the amplitude of the kinematic "
                     "wheelset motion, by integration of the non-linear equation (EN 15302 Annex "
                     "B) with the singular end points treated exactly. Δr(y) comes from a table "
-                    "(yaw = 0, r_left - r_right of the main contact), from a run config (.toml: "
-                    "its y grid is solved at yaw 0 with its contact.method, serially), or from "
-                    "a CSV file of "
+                    "(yaw = 0, r_left - r_right of the main contact, at its grid nodes, extra "
+                    "knots and both sides of each contact jump), from a run config (.toml: its "
+                    "y grid is solved at yaw 0 with its contact.method, serially, and its jumps "
+                    "located and refined as a build does), or from a CSV file of "
                     "y [mm], Δr [mm] (positive for y > 0, i.e. EN 15302's r_right - r_left with "
                     "y to the right). Prints the curve and the value at 3 mm.")
     src = p.add_mutually_exclusive_group(required=True)
@@ -127,25 +128,38 @@ def run(args: argparse.Namespace) -> int:
 def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, np.ndarray,
                                                                         float]:
     """``(y, Δr with NaN holes, r0 in mm)`` of a run config: its y grid solved at yaw 0 (the
-    config's yaw axis is ignored) with ``method`` (default ``contact.method``), serially."""
+    config's yaw axis is ignored) with ``method`` (default ``contact.method``), serially, and
+    its contact jumps located and the pieces between them refined as a build does (with
+    ``output.refine``): Δr then steps at its jumps instead of running across a grid cell."""
     import dataclasses
 
     from lutmpi.config import load_config
+    from lutmpi.parallel.jumps_step import mesh_resolution
     from lutmpi.reports.conicity import dr_from_table
     from lutmpi.scene import Scene
-    from lutmpi.table.compute import compute_points, default_solver
+    from lutmpi.table import jumps as tj
+    from lutmpi.table.compute import compute_points, default_solver, pose_to_record
     from lutmpi.table.grid import Grid
-    from lutmpi.table.schema import FIELDS_BY_NAME, D
+    from lutmpi.table.schema import FIELDS, J, limit_fields
 
     cfg = load_config(path)
     cfg = dataclasses.replace(cfg, grid=dataclasses.replace(cfg.grid, yaw_rad=(0.0, 0.0, 1)))
     name = method or cfg.contact.method
     grid = Grid.from_config(cfg.grid)
-    fields = [FIELDS_BY_NAME[k] for k in (D.status, D.rolling_radius)]
-    recs, _ = compute_points(Scene.from_config(cfg), grid, np.arange(grid.n_points), [name],
-                             default_solver(), fields)
+    scene, solver = Scene.from_config(cfg), default_solver()
+    fields = limit_fields(FIELDS)
+    recs, _ = compute_points(scene, grid, np.arange(grid.n_points), [name], solver, fields)
     group = {k: v[:, None] for k, v in recs[name].items()}   # (ny, nyaw = 1, ...)
-    y, dr = dr_from_table({"y": grid.y, "yaw": grid.yaw, "methods": {name: group}}, name)
+
+    def solve(y: float, yaw: float) -> dict[str, np.ndarray]:
+        return pose_to_record(solver(scene, y, yaw, name), fields)
+
+    js = tj.locate_jumps(group, grid.y, grid.yaw, solve, fields, refine=cfg.output.refine,
+                         mesh=mesh_resolution(scene, name), scale=cfg.output.refine_scale)
+    jumps = {"arrays": {**js.arrays, J.knot_y: js.knot_y}, "knots": js.knots,
+             "limits": js.limits}
+    y, dr = dr_from_table({"y": grid.y, "yaw": grid.yaw, "methods": {name: group},
+                           "jumps": {name: jumps}}, name)
     r0 = 0.5 * sum(cfg.wheel.side(s).nominal_radius_mm for s in ("left", "right"))
     return y, dr, r0
 

@@ -57,7 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, optimize
 
-from lutmpi.table.schema import Y_AXIS, YAW_AXIS, D
+from lutmpi.table.schema import Y_AXIS, YAW_AXIS, D, J
 
 __all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
            "dr_from_table", "check_dr", "DrCheck", "HoleError"]
@@ -276,6 +276,13 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
     that did not converge (status != 0) is NaN: it is a hole, never integrated across; see
     :func:`check_dr`.
 
+    Where the table holds its contact jumps (``jumps`` of a :class:`~lutmpi.table.Table`, or
+    ``jumps`` of the mapping: name -> the ``arrays``, ``knots`` and ``limits`` of
+    :mod:`lutmpi.table.jumps`), the yaw-0 column's extra knots and each jump's two one-sided
+    limits (5 um apart) are samples too: Δr then steps at its jumps instead of running linearly
+    across a grid cell, which moved the conicity of an amplitude whose turning point lies next
+    to a flange jump by up to 18 % between a 0.1 and a 0.025 mm grid.
+
     Parameters
     ----------
     table : lutmpi.table.Table or Mapping
@@ -299,10 +306,12 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
         y, yaw = np.asarray(table.y, float), np.asarray(table.yaw, float)
         name = method or table.methods[0]
         group = {k: table.get(k, name, raw=True) for k in table.quantities}
+        jumps = table.jumps.get(name)
     else:
         y, yaw = np.asarray(table[Y_AXIS], float), np.asarray(table[YAW_AXIS], float)
         name = method or next(iter(table["methods"]))
         group = table["methods"][name]
+        jumps = table.get("jumps", {}).get(name)
     j = int(np.argmin(np.abs(yaw)))
     if abs(yaw[j]) > 1e-12:
         raise ValueError(f"no yaw = 0 column in the grid (closest {yaw[j]:.3g} rad): "
@@ -313,7 +322,36 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
     dr = rr[:, 0] - rr[:, 1]
     if D.status in group:
         dr = np.where(np.asarray(group[D.status])[:, j] == 0, dr, np.nan)
-    return y, dr
+    if jumps is None or D.rolling_radius not in jumps["knots"]:
+        return y, dr
+    return _with_jump_samples(y, dr, jumps, j)
+
+
+def _with_jump_samples(y: np.ndarray, dr: np.ndarray, jumps: dict, j: int
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """The grid's ``(y, dr)`` with column ``j``'s extra knots and jump limits added (sorted,
+    one sample per y, failed ones NaN)."""
+    arr, knots, limits = jumps["arrays"], jumps["knots"], jumps["limits"]
+
+    def drs(rr: np.ndarray, status: np.ndarray | None) -> np.ndarray:
+        d = rr[..., 0, 0] - rr[..., 1, 0]
+        return d if status is None else np.where(status == 0, d, np.nan)
+
+    ky = np.asarray(arr[J.knot_y], float)[j]
+    kst = np.asarray(knots[D.status])[j] if D.status in knots else None
+    kd = drs(np.asarray(knots[D.rolling_radius], float)[j], kst)
+    lo, hi = np.asarray(arr[J.jump_y_lo], float)[j], np.asarray(arr[J.jump_y_hi], float)[j]
+    lrr = np.asarray(limits[D.rolling_radius], float)[j]          # (K, 2, side, slot)
+    lst = np.asarray(limits[D.status])[j] if D.status in limits else None
+    ld = drs(lrr, lst)                                             # (K, 2)
+    ys = np.concatenate([y, ky, lo, hi])
+    ds = np.concatenate([dr, kd, ld[:, 0], ld[:, 1]])
+    keep = np.isfinite(ys)
+    ys, ds = ys[keep], ds[keep]
+    order = np.argsort(ys, kind="stable")
+    ys, ds = ys[order], ds[order]
+    first = np.concatenate([[True], np.diff(ys) > 0])
+    return ys[first], ds[first]
 
 
 #: EN 15302's benchmark Δr data are given every 0.1 mm: a coarser y grid is flagged

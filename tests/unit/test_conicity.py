@@ -107,3 +107,55 @@ def test_dr_from_table_takes_left_minus_right_at_zero_yaw():
     table["yaw"] = yaw + 0.005
     with pytest.raises(ValueError, match="yaw = 0"):
         dr_from_table(table)
+
+
+def test_dr_from_a_table_steps_at_its_jumps_and_converges(tmp_path):
+    """An asymmetric measured pair (a worn wheel left, a worn rail right) whose 6 mm motion turns
+    next to a flange jump of Δr: from the table's 0.1 mm grid alone, Δr runs linearly across
+    the jump's cell and the conicity at 6 mm is ~18 % off; with the table's extra knots and
+    one-sided jump limits it matches Δr solved directly every 0.01 mm. The config path of
+    ``lutmpi conicity`` locates the jumps as a build does and gives the table's value."""
+    from lutmpi.cli import main
+    from lutmpi.commands.conicity import config_dr
+    from lutmpi.config import load_config
+    from lutmpi.paths import REPO_ROOT
+    from lutmpi.pose.solve import solve_pose
+    from lutmpi.reports.conicity import dr_from_table
+    from lutmpi.scene import Scene
+    from lutmpi.table import Table
+
+    prof = REPO_ROOT / "profiles"
+    cfg = tmp_path / "asym.toml"
+    cfg.write_text(
+        f'[wheel]\nprofile = "{prof / "MBench_S1002_v3.prw"}"\n'
+        f'[wheel.left]\nprofile = "{prof / "Car7216_0001r.whl"}"\n'
+        f'[rail]\nprofile = "{prof / "MBench_UIC60_v3.prr"}"\ninclination = "none"\n'
+        f'[rail.right]\nprofile = "{prof / "rail_left_iter288.ban"}"\ninclination = "1:40"\n'
+        '[grid]\ny_mm = [-8.0, 8.0, 161]\nyaw_rad = [0.0, 0.0, 1]\n'
+        '[contact]\nmethod = "reference"\n[output]\nmethods = ["reference"]\n')
+    out = tmp_path / "t.h5"
+    assert main(["build", str(cfg), "-o", str(out)]) == 0
+    table = Table.open(out)
+    amps = np.array([3e-3, 6e-3])
+
+    scene = Scene.from_config(load_config(cfg))
+    ys = np.linspace(-8e-3, 8e-3, 1601)
+    direct = []
+    for y in ys:
+        res = solve_pose(scene, float(y), 0.0, "reference")
+        assert res.success
+        r = {s: res.contacts[s][0].rolling_radius for s in ("left", "right")}
+        direct.append(r["left"] - r["right"])
+    want = conicity_curve(ys, np.array(direct), amps).tan_gamma_e
+
+    y, dr = dr_from_table(table)
+    got = conicity_curve(y, dr, amps).tan_gamma_e
+    np.testing.assert_allclose(got, want, rtol=2e-3)
+    # the grid alone (the mapping form without its jumps)
+    grid_only = {"y": table.y, "yaw": table.yaw, "methods": {"reference": {
+        k: table.get(k, "reference", raw=True) for k in ("rolling_radius", "status")}}}
+    yg, drg = dr_from_table(grid_only)
+    coarse = conicity_curve(yg, drg, amps).tan_gamma_e
+    assert abs(coarse[1] / want[1] - 1.0) > 0.05
+    yc, drc, _ = config_dr(cfg)
+    np.testing.assert_allclose(conicity_curve(yc, drc, amps).tan_gamma_e, got, rtol=1e-9)
