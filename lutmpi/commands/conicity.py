@@ -140,7 +140,14 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     from lutmpi.table import jumps as tj
     from lutmpi.table.compute import compute_points, default_solver, pose_to_record
     from lutmpi.table.grid import Grid
-    from lutmpi.table.schema import FIELDS, J, limit_fields
+    from lutmpi.table.schema import (
+        FIELDS,
+        JUMPS_GROUP,
+        KNOTS_GROUP,
+        LIMITS_GROUP,
+        J,
+        limit_fields,
+    )
 
     cfg = load_config(path)
     cfg = dataclasses.replace(cfg, grid=dataclasses.replace(cfg.grid, yaw_rad=(0.0, 0.0, 1)))
@@ -156,10 +163,10 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
 
     js = tj.locate_jumps(group, grid.y, grid.yaw, solve, fields, refine=cfg.output.refine,
                          mesh=mesh_resolution(scene, name), scale=cfg.output.refine_scale)
-    jumps = {"arrays": {**js.arrays, J.knot_y: js.knot_y}, "knots": js.knots,
-             "limits": js.limits}
+    jumps = {"arrays": {**js.arrays, J.knot_y: js.knot_y}, KNOTS_GROUP: js.knots,
+             LIMITS_GROUP: js.limits}
     y, dr = dr_from_table({"y": grid.y, "yaw": grid.yaw, "methods": {name: group},
-                           "jumps": {name: jumps}}, name)
+                           JUMPS_GROUP: {name: jumps}}, name)
     r0 = 0.5 * sum(cfg.wheel.side(s).nominal_radius_mm for s in ("left", "right"))
     return y, dr, r0
 

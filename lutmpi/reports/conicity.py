@@ -57,7 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, optimize
 
-from lutmpi.table.schema import Y_AXIS, YAW_AXIS, D, J
+from lutmpi.table.schema import JUMPS_GROUP, KNOTS_GROUP, LIMITS_GROUP, Y_AXIS, YAW_AXIS, D, J
 
 __all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
            "dr_from_table", "check_dr", "DrCheck", "HoleError"]
@@ -311,7 +311,7 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
         y, yaw = np.asarray(table[Y_AXIS], float), np.asarray(table[YAW_AXIS], float)
         name = method or next(iter(table["methods"]))
         group = table["methods"][name]
-        jumps = table.get("jumps", {}).get(name)
+        jumps = table.get(JUMPS_GROUP, {}).get(name)
     j = int(np.argmin(np.abs(yaw)))
     if abs(yaw[j]) > 1e-12:
         raise ValueError(f"no yaw = 0 column in the grid (closest {yaw[j]:.3g} rad): "
@@ -322,7 +322,7 @@ def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndar
     dr = rr[:, 0] - rr[:, 1]
     if D.status in group:
         dr = np.where(np.asarray(group[D.status])[:, j] == 0, dr, np.nan)
-    if jumps is None or D.rolling_radius not in jumps["knots"]:
+    if jumps is None or D.rolling_radius not in jumps[KNOTS_GROUP]:
         return y, dr
     return _with_jump_samples(y, dr, jumps, j)
 
@@ -331,7 +331,7 @@ def _with_jump_samples(y: np.ndarray, dr: np.ndarray, jumps: dict, j: int
                        ) -> tuple[np.ndarray, np.ndarray]:
     """The grid's ``(y, dr)`` with column ``j``'s extra knots and jump limits added (sorted,
     one sample per y, failed ones NaN)."""
-    arr, knots, limits = jumps["arrays"], jumps["knots"], jumps["limits"]
+    arr, knots, limits = jumps["arrays"], jumps[KNOTS_GROUP], jumps[LIMITS_GROUP]
 
     def drs(rr: np.ndarray, status: np.ndarray | None) -> np.ndarray:
         d = rr[..., 0, 0] - rr[..., 1, 0]

@@ -52,15 +52,23 @@ def nonlinearity_parameter(y, dr) -> float:
     return float((lam[1] - lam[0]) / (a4 - a2))
 
 
+#: the step (m) at which :func:`rolling_radii_coefficient` samples Δr between its data points
+KAPPA_STEP = 1e-5
+
+
 def rolling_radii_coefficient(y, dr, amplitude: float) -> float:
     """κ(ŷ): half the least-squares slope of Δr over ``|y| ≤ ŷ`` (dimensionless; NaN when fewer
-    than 3 samples lie in the range or the range is not covered by the data)."""
+    than 3 samples lie in the range or the range is not covered by the data). Δr, linear between
+    its samples, is fitted at points every :data:`KAPPA_STEP`, so the samples' own spacing (a
+    table's grid nodes, its extra knots, both sides of each jump) does not weight the fit."""
     y = np.asarray(y, float)
     dr = np.asarray(dr, float)
     m = (np.abs(y) <= amplitude + 1e-12) & np.isfinite(dr)
     if m.sum() < 3 or y.min() > -amplitude + 1e-12 or y.max() < amplitude - 1e-12:
         return math.nan
-    return float(0.5 * np.polyfit(y[m], dr[m], 1)[0])
+    ok = np.isfinite(dr)
+    yu = np.linspace(-amplitude, amplitude, int(round(2 * amplitude / KAPPA_STEP)) + 1)
+    return float(0.5 * np.polyfit(yu, np.interp(yu, y[ok], dr[ok]), 1)[0])
 
 
 def delta_tan_gamma(contact_angle: np.ndarray) -> np.ndarray:

@@ -158,7 +158,9 @@ def test_three_rigid_roots_counted_and_the_lowest_stable_chosen(thinned_scene):
     assert lf.status == CONVERGED
     print(f"load centre - root z_g: {(lc.z_g - ref.z_g) / MM:+.5f} mm (0.25 mm mesh), "
           f"{(lf.z_g - ref.z_g) / MM:+.5f} mm (0.125 mm)")
-    assert abs(lf.z_g - ref.z_g) <= abs(lc.z_g - ref.z_g) + 1e-6 * MM
+    # (or both are within 0.1 um of the root: far below the 5-10 um allowed indentations, where
+    # which mesh lands closer is the mesh's luck, not convergence)
+    assert abs(lf.z_g - ref.z_g) <= max(abs(lc.z_g - ref.z_g), 1e-4 * MM)
 
 
 def test_compiled_searches_equal_the_python_ones_to_the_bit(thinned_scene):
