@@ -145,8 +145,9 @@ def cheapest(results: Sequence[TableError], target: dict[str, float]) -> TableEr
 def markdown(results: Sequence[TableError], target: dict[str, float] | None = None) -> str:
     """The report section: one table of errors per table file, then the cheapest grid."""
     lines = ["## Table error against run time", "",
-             "Off-grid poses (cell midpoints and seeded random poses) checked by direct solves "
-             f"with the table's method; near = within {NEAR_M * 1e3:.3f} mm of a located jump.",
+             f"Off-grid poses ({CELL_FRACTION:g} into every grid cell along y, off the knots, "
+             "and seeded random poses) checked by direct solves with the table's method; near = "
+             f"within {NEAR_M * 1e3:.3f} mm of a located jump.",
              "", "| table | poses | build s | MB | knots | jumps | refine scale | quantity | "
              "jump-aware max away | RMS away | max near | linear max away | linear RMS away | "
              "linear max near |",

@@ -240,6 +240,7 @@ def test_refine_scale_is_stored_and_coarsens_only_the_refinement(tmp_path):
     rows = [line.split("|") for line in (rep / "table_error.md").read_text().splitlines()
             if line.startswith("| ") and "rolling_radius" in line]
     assert [(r[1].strip(), r[7].strip()) for r in rows] == [("fine.h5", "1"), ("coarse.h5", "10")]
+    assert "0.3 into every grid cell along y, off the knots" in (rep / "table_error.md").read_text()
 
 
 def test_simulate_leaving_the_table_stops_with_a_message_naming_the_pose(tmp_path, capsys):
