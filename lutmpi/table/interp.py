@@ -12,17 +12,26 @@ Representation (built once per table and method, :func:`build`):
   Fritsch-Carlson slopes computed inside each piece) or ``nearest`` (codes and counts), chosen by
   :func:`choose_modes` from the error each makes predicting the table's own nodes from every other
   node (a measured error at twice the step, no extra solve).
+* The jumps of neighbouring yaw columns are paired one by one (:func:`pair_jumps`: the
+  order-keeping pairing of least distance, on the same wheel, within :data:`PAIR_STEPS` grid
+  steps of y). The same count of jumps is not taken to mean the same jumps: a cluster of the
+  load centre's mesh-step jumps can lose a member while another cluster gains one (on the
+  Manchester 37x37 load-centre table, pairing by index put jumps 4 mm apart together and the
+  rolling radius between those columns erred by up to 8.9 mm).
 * Along yaw: a cubic (Catmull-Rom: centred-difference slopes from the outer columns j - 1 and
   j + 2) between the two neighbouring columns, every column evaluated *on the same side of the
-  same jump curve*. Where the columns hold the same jumps (same count and wheels), the jump
-  position at the query's yaw is interpolated between them and decides the piece; a column whose
-  own jump lies on the other side of the query is evaluated by extending its piece (a short
-  extrapolation, never a blend of two sides). The contact varies about quadratically with yaw
-  (evenly around yaw 0), which linear blending misses by c h^2 / 4: 59 um of rolling radius on
-  the Manchester flange at 5 mrad steps, 4.8 um with the cubic. In an edge cell, or where an
-  outer column does not share the jumps, the slope there is the second-order one-sided one (or
-  the secant when neither outer column answers); where the two columns do not, each answers with
-  its own piece and the blend is linear (flag :data:`UNMATCHED`).
+  same jump curve*. A paired jump's position at the query's yaw is interpolated between its two
+  positions and decides the side for both columns; an unpaired one decides it for its own column
+  alone. A column whose own jump lies on the other side of the query is evaluated by extending
+  its piece (a short extrapolation, never a blend of two sides). The contact varies about
+  quadratically with yaw (evenly around yaw 0), which linear blending misses by c h^2 / 4: 59 um
+  of rolling radius on the Manchester flange at 5 mrad steps, 4.8 um with the cubic. The cubic
+  needs the two columns' pieces bounded by paired jumps (or the grid's ends); an outer column
+  answers where its piece corresponds too, else the slope there is the second-order one-sided
+  one (in an edge cell too), or the secant when neither outer column answers. Where the two
+  pieces do not correspond (a jump without a partner bounds one of them) the blend is linear
+  (flag :data:`UNMATCHED`). On a column the yaw slope is the cubic's (the same from either
+  cell).
 
 Queries:
 
@@ -49,6 +58,9 @@ MODES = ("linear", "pchip", "nearest")
 LINEAR, PCHIP, NEAREST = 0, 1, 2
 #: flags of a query (bit mask)
 OUT_OF_RANGE, UNMATCHED = 1, 2
+#: the jumps of neighbouring yaw columns are paired when within this many grid steps of y of
+#: each other (and on the same wheel); leaving both unpaired costs one step each
+PAIR_STEPS = 2.0
 
 
 @dataclass(frozen=True)
@@ -103,8 +115,9 @@ class Interpolator:
         Knot index where piece p of a column starts; piece p ends where p + 1 starts.
     jy : ndarray, (nyaw, K)
         Jump positions (NaN padded); ``nj`` (nyaw,) their count; ``jside`` (nyaw, K) wheel masks.
-    match : ndarray of bool, (max(nyaw - 1, 0),)
-        Whether columns j and j + 1 hold the same jumps.
+    up, down : ndarray of int64, (nyaw, K)
+        The jump of column j + 1 (``up``) or j - 1 (``down``) paired with jump k of column j
+        (:func:`pair_jumps`), -1 where none.
     mode : ndarray of int64, (Q,)
         Interpolant per value column.
     layout : Layout
@@ -119,7 +132,8 @@ class Interpolator:
     jy: np.ndarray
     nj: np.ndarray
     jside: np.ndarray
-    match: np.ndarray
+    up: np.ndarray
+    down: np.ndarray
     mode: np.ndarray
     layout: Layout
 
@@ -150,7 +164,7 @@ class Interpolator:
     def arrays(self) -> tuple[np.ndarray, ...]:
         """The arguments of the compiled kernels, in their order."""
         return (self.y_axis, self.yaw_axis, self.ky, self.kv, self.kd, self.pstart, self.jy,
-                self.nj, self.match, self.mode)
+                self.nj, self.up, self.down, self.mode)
 
 
 # -- building ---------------------------------------------------------------------------------
@@ -207,11 +221,61 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
     nj = np.isfinite(jy).sum(axis=1).astype(np.int64)
     jside = (np.zeros((nyaw, k), np.int64) if not k
              else np.asarray(jumps[J.jump_side], np.int64))
-    match = np.array([nj[j] == nj[j + 1] and np.array_equal(jside[j, :nj[j]], jside[j + 1, :nj[j]])
-                      for j in range(nyaw - 1)], dtype=bool)
+    up = np.full((nyaw, k), -1, np.int64)
+    down = np.full((nyaw, k), -1, np.int64)
+    step = float(np.max(np.diff(y_axis))) if len(y_axis) > 1 else 0.0
+    for j in range(nyaw - 1):
+        a, b = pair_jumps(jy[j, :nj[j]], jside[j, :nj[j]], jy[j + 1, :nj[j + 1]],
+                          jside[j + 1, :nj[j + 1]], PAIR_STEPS * step)
+        up[j, :nj[j]] = a
+        down[j + 1, :nj[j + 1]] = b
     return Interpolator(np.asarray(y_axis, float), np.asarray(yaw_axis, float), ky, kv, kd,
-                        pstart, np.where(np.isfinite(jy), jy, np.inf), nj, jside, match, mode,
-                        layout)
+                        pstart, np.where(np.isfinite(jy), jy, np.inf), nj, jside, up,
+                        down, mode, layout)
+
+
+def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, reach: float
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Pair the jumps of two neighbouring yaw columns (positions ``ya``, ``yb`` in m, sorted;
+    wheel masks ``sa``, ``sb``): the order-keeping pairing of least cost, a pair costing the
+    distance of its positions (same wheel mask and closer than ``reach`` (m) only), a jump left
+    unpaired ``reach / 2``. The same count of jumps is not taken to mean the same jumps: a
+    cluster of the load centre's mesh-step jumps can lose a member while another gains one.
+
+    Returns
+    -------
+    a_to_b, b_to_a : ndarray of int64
+        The partner of each jump of either column, -1 where none.
+    """
+    na, nb = len(ya), len(yb)
+    gap = 0.5 * reach
+    cost = np.full((na + 1, nb + 1), np.inf)
+    move = np.zeros((na + 1, nb + 1), np.int64)   # 0: pair, 1: a's jump unpaired, 2: b's
+    cost[0, :] = gap * np.arange(nb + 1)
+    cost[:, 0] = gap * np.arange(na + 1)
+    move[1:, 0], move[0, 1:] = 1, 2
+    for i in range(1, na + 1):
+        for k in range(1, nb + 1):
+            best, how = cost[i - 1, k] + gap, 1
+            if cost[i, k - 1] + gap < best:
+                best, how = cost[i, k - 1] + gap, 2
+            d = abs(float(ya[i - 1]) - float(yb[k - 1]))
+            if sa[i - 1] == sb[k - 1] and d < reach and cost[i - 1, k - 1] + d <= best:
+                best, how = cost[i - 1, k - 1] + d, 0
+            cost[i, k], move[i, k] = best, how
+    a_to_b = np.full(na, -1, np.int64)
+    b_to_a = np.full(nb, -1, np.int64)
+    i, k = na, nb
+    while i > 0 or k > 0:
+        how = move[i, k]
+        if how == 0:
+            a_to_b[i - 1], b_to_a[k - 1] = k - 1, i - 1
+            i, k = i - 1, k - 1
+        elif how == 1:
+            i -= 1
+        else:
+            k -= 1
+    return a_to_b, b_to_a
 
 
 def _mode_vector(layout: Layout, arrays: dict[str, np.ndarray], modes: dict[str, str]
@@ -437,8 +501,49 @@ def _piece_of(jy, nj, j, y):  # noqa: ANN001
 
 
 @numba.njit(cache=True)
-def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw,  # noqa: ANN001
-               out_v, out_dy, out_dw, tmp_v, tmp_d):
+def _piece_in_cell(jy, nj, up, down, j, lower, w, y):  # noqa: ANN001
+    """The piece of column ``j`` answering a query at ``y``, a fraction ``w`` of the way from the
+    cell's lower column to its upper one (``lower``: ``j`` is the lower column): the number of
+    its jumps at or below ``y``, a paired jump at its position interpolated in yaw (the same
+    arithmetic from either column), an unpaired one at its own."""
+    p = 0
+    for k in range(nj[j]):
+        if lower:
+            m = up[j, k]
+            yj = jy[j, k] if m < 0 else (1 - w) * jy[j, k] + w * jy[j + 1, m]
+        else:
+            m = down[j, k]
+            yj = jy[j, k] if m < 0 else (1 - w) * jy[j - 1, m] + w * jy[j, k]
+        if yj <= y:
+            p += 1
+    return p
+
+
+@numba.njit(cache=True)
+def _corresponding(pair, nj, j, o, p):  # noqa: ANN001
+    """The piece of column ``o`` (j +- 1; ``pair`` = ``up`` or ``down``) whose bounds are the
+    partners of the jumps bounding piece ``p`` of column ``j`` (the grid's ends bound the first
+    and last pieces); -1 where a bound has no partner or a jump of ``o`` lies between them."""
+    if p == 0:
+        lo = 0
+    else:
+        m = pair[j, p - 1]
+        if m < 0:
+            return -1
+        lo = m + 1
+    if p == nj[j]:
+        hi = nj[o]
+    else:
+        m = pair[j, p]
+        if m < 0:
+            return -1
+        hi = m
+    return lo if lo == hi else -1
+
+
+@numba.njit(cache=True)
+def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y,  # noqa: ANN001
+               yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):
     """One pose into ``out_v``, ``out_dy``, ``out_dw`` (Q,); ``tmp_v``, ``tmp_d`` (4, Q) scratch
     (the columns j - 1 .. j + 2 around the query's yaw).
 
@@ -466,32 +571,38 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw
                 hi = mid
         j = lo
         w = (yaw - yaw_axis[j]) / (yaw_axis[j + 1] - yaw_axis[j])
-    # the piece: by the jump curve at this yaw when both columns share their jumps
+    # the piece of each column: by the jump curves at this yaw (paired jumps), or by a column's
+    # own jump where the other column holds no partner
     dist = np.nan
-    if na == 1 or match[j]:
-        p = 0
-        best = np.inf
+    best = np.inf
+    paired = False
+    if na == 1:
+        p0 = _piece_of(jy, nj, j, y)
+        p1 = p0
         for k in range(nj[j]):
-            yj = jy[j, k] if na == 1 else (1 - w) * jy[j, k] + w * jy[j + 1, k]
-            if yj <= y:
-                p += 1
+            if abs(y - jy[j, k]) < best:
+                best = abs(y - jy[j, k])
+                dist = y - jy[j, k]
+    else:
+        p0 = _piece_in_cell(jy, nj, up, down, j, True, w, y)
+        p1 = _piece_in_cell(jy, nj, up, down, j + 1, False, w, y)
+        for k in range(nj[j]):            # paired jumps, and the nearer column's unpaired ones
+            m = up[j, k]
+            if m < 0 and w >= 0.5:
+                continue
+            yj = jy[j, k] if m < 0 else (1 - w) * jy[j, k] + w * jy[j + 1, m]
             if abs(y - yj) < best:
                 best = abs(y - yj)
                 dist = y - yj
-        p0 = p
-        p1 = p
-    else:
-        if w > 0.0:
-            flags |= 2
-        p0 = _piece_of(jy, nj, j, y)
-        p1 = _piece_of(jy, nj, j + 1, y)
-        p = p0 if w < 0.5 else p1
-        jn = j if w < 0.5 else j + 1
-        best = np.inf
-        for k in range(nj[jn]):
-            if abs(y - jy[jn, k]) < best:
-                best = abs(y - jy[jn, k])
-                dist = y - jy[jn, k]
+        if w >= 0.5:
+            for k in range(nj[j + 1]):
+                if down[j + 1, k] < 0 and abs(y - jy[j + 1, k]) < best:
+                    best = abs(y - jy[j + 1, k])
+                    dist = y - jy[j + 1, k]
+        paired = _corresponding(up, nj, j, j + 1, p0) == p1
+        if w > 0.0 and not paired:
+            flags |= 2   # the two pieces are not bounded by the same jumps: a linear blend
+    p = p0 if w < 0.5 else p1
     _piece_eval(ky, kv, kd, mode, j, pstart[j, p0], pstart[j, p0 + 1], y, 1.0, tmp_v[1],
                 tmp_d[1], False)
     if na == 1:
@@ -503,15 +614,18 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw
     _piece_eval(ky, kv, kd, mode, j + 1, pstart[j + 1, p1], pstart[j + 1, p1 + 1], y, 1.0,
                 tmp_v[2], tmp_d[2], False)
     # cubic in yaw (Catmull-Rom: centred-difference slopes from the outer columns) where the
-    # outer columns share the jumps; the contact varies ~ quadratically with yaw (even in yaw
-    # at yaw 0), which linear blending between columns misses by c h^2 / 4
-    lower = flags == 0 and w > 0.0 and j >= 1 and match[j - 1]
-    upper = flags == 0 and w > 0.0 and j + 2 <= na - 1 and match[j + 1]
+    # outer columns hold the corresponding piece; the contact varies ~ quadratically with yaw
+    # (even in yaw at yaw 0), which linear blending between columns misses by c h^2 / 4
+    # (on a column too: its yaw slope is the cubic's, the same from either cell)
+    pl = _corresponding(down, nj, j, j - 1, p0) if paired and j >= 1 else -1
+    pu = _corresponding(up, nj, j + 1, j + 2, p1) if paired and j + 2 <= na - 1 else -1
+    lower = pl >= 0
+    upper = pu >= 0
     if lower:
-        _piece_eval(ky, kv, kd, mode, j - 1, pstart[j - 1, p0], pstart[j - 1, p0 + 1], y, 1.0,
+        _piece_eval(ky, kv, kd, mode, j - 1, pstart[j - 1, pl], pstart[j - 1, pl + 1], y, 1.0,
                     tmp_v[0], tmp_d[0], False)
     if upper:
-        _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, p1], pstart[j + 2, p1 + 1], y, 1.0,
+        _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, pu], pstart[j + 2, pu + 1], y, 1.0,
                     tmp_v[3], tmp_d[3], False)
     step = yaw_axis[j + 1] - yaw_axis[j]
     w2 = w * w
@@ -525,11 +639,6 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw
             out_v[c] = a if w < 0.5 else b
             out_dy[c] = 0.0
             out_dw[c] = (b - a) / step
-            continue
-        if w == 0.0:
-            out_v[c] = a
-            out_dy[c] = da
-            out_dw[c] = (b - a) / step        # the slope of the cell above, as before
             continue
         ma = b - a           # slopes per unit w: one-sided unless an outer column answers
         mb = b - a
@@ -549,7 +658,10 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw
             if not lo_ok:        # edge cell: second-order one-sided slope at j
                 ma = 0.5 * (-3 * a + 4 * b - tmp_v[3, c])
                 sa = 0.5 * (-3 * da + 4 * db - tmp_d[3, c])
-        if w == 1.0:
+        if w == 0.0:
+            out_v[c] = a
+            out_dy[c] = da
+        elif w == 1.0:
             out_v[c] = b
             out_dy[c] = db
         else:
@@ -562,12 +674,12 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw
 @numba.njit(cache=True)
 def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # noqa: ANN001
     """:func:`lookup_one` over a batch (``arrays`` = :attr:`Interpolator.arrays`)."""
-    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode = arrays
+    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode = arrays
     q = kv.shape[2]
     tmp_v = np.empty((4, q))
     tmp_d = np.empty((4, q))
     for i in range(y.size):
-        f, p, d = lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y[i],
+        f, p, d = lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y[i],
                              yaw[i], out_v[i], out_dy[i], out_dw[i], tmp_v, tmp_d)
         flags[i] = f
         piece[i] = p
@@ -578,6 +690,6 @@ def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # n
 def lookup_point(arrays, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):  # noqa: ANN001
     """:func:`lookup_one` for one pose (``arrays`` = :attr:`Interpolator.arrays`): the compiled
     lookup of the dynamics; returns ``(flags, piece, jump_dist)``."""
-    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode = arrays
-    return lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, match, mode, y, yaw, out_v,
-                      out_dy, out_dw, tmp_v, tmp_d)
+    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode = arrays
+    return lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y, yaw,
+                      out_v, out_dy, out_dw, tmp_v, tmp_d)

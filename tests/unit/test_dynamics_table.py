@@ -78,8 +78,8 @@ def test_table_provider_equals_table_interp(small_table):
         if len(set(rec["jump_side"].tolist())) == 1 and abs(rec["jump_distance"][0]) > 2 * h:
             for slope, name, a, b in (("dz_dy", "z_g", 1, 2), ("droll_dy", "roll", 1, 2),
                                       ("dz_dyaw", "z_g", 0, 4), ("droll_dyaw", "roll", 0, 4)):
-                # y: centred (the interpolants are C1 in y); yaw: linear between columns, the
-                # slope of the cell above (forward) at a column
+                # y: centred (the interpolants are C1 in y); yaw: forward, the slope of the
+                # cubic of the cell above (the same as the cell below's where both are cubics)
                 fd = (rec[name][b] - rec[name][a]) / ((2 if a else 1) * h)
                 assert getattr(g, slope) == pytest.approx(fd, rel=1e-4, abs=1e-7), slope
 

@@ -117,6 +117,73 @@ def test_outside_the_grid_is_flagged_with_nan(synthetic_table):
     assert np.isnan(value[1:]).all() and np.isfinite(value[0]).any() and piece[1] == -1
 
 
+def _two_curves_and_clusters(yaw: float) -> list[tuple[float, float]]:
+    """Jumps ``(y m, step of the rolling radius m)`` of one column of a synthetic table: two
+    jump curves moving with yaw (10 mm/rad) and a cluster of two small opposite steps (as the
+    load centre's mesh-step jumps come) at y = -3.2 mm for yaw < 0 and at +3.2 mm for yaw >= 0,
+    so neighbouring columns across yaw 0 hold the same count of jumps but not the same jumps."""
+    curves = [(-1.0e-3 + 1e-2 * yaw, 2e-3), (1.234e-3 + 1e-2 * yaw, 8e-3)]
+    cluster = ([(-3.21e-3, 1e-5), (-3.2e-3, -1e-5)] if yaw < 0.0
+               else [(3.2e-3, 1e-5), (3.21e-3, -1e-5)])
+    return sorted(curves + cluster)
+
+
+def _stepped(y: float, jumps: list[tuple[float, float]]) -> float:
+    return 0.46 + 0.05 * y + sum(step for yj, step in jumps if y >= yj)
+
+
+def test_columns_with_as_many_but_other_jumps_are_read_on_the_same_side_of_each_curve():
+    """Two neighbouring columns with the same number of jumps, on the same wheel, are not
+    taken to hold the same jumps: each jump curve's position is interpolated between its own
+    two positions, and every query between the columns lands on its exact branch. (Pairing
+    the jumps by their index put jump curves 4 mm apart together: between the columns either
+    side of yaw 0 the answer took the other side's branch.)"""
+    y_axis = np.linspace(-4e-3, 4e-3, 17)
+    yaw_axis = np.linspace(-0.02, 0.02, 5)
+    cols = [_two_curves_and_clusters(float(a)) for a in yaw_axis]
+    rr = np.array([[_stepped(float(y), c) for c in cols] for y in y_axis])
+    pos = np.array([[yj for yj, _ in c] for c in cols])
+    lo, hi = pos - 2e-6, pos + 2e-6
+    jumps = {"jump_y": pos, "jump_y_lo": lo, "jump_y_hi": hi,
+             "jump_side": np.ones(pos.shape, np.int8)}
+    limits = {"rolling_radius": np.stack(
+        [[[_stepped(float(a), c), _stepped(float(b), c)] for a, b in zip(lo[j], hi[j], strict=True)]
+         for j, c in enumerate(cols)])}
+    ip = ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, limits,
+                  modes={"rolling_radius": "pchip"})
+    assert [len(c) for c in cols] == [4] * 5
+    rng = np.random.default_rng(11)
+    yaw = rng.uniform(-0.02, 0.02, 2000)
+    y = rng.uniform(-2.5e-3, 2.5e-3, 2000)
+    curves = [(-1.0e-3 + 1e-2 * yaw, 2e-3), (1.234e-3 + 1e-2 * yaw, 8e-3)]
+    far = np.all([np.abs(y - c) > 5e-6 for c, _ in curves], axis=0)
+    want = 0.46 + 0.05 * y + sum(np.where(y >= c, step, 0.0) for c, step in curves)
+    got, _, _, flags, _, _ = ip.evaluate(y[far], yaw[far])
+    assert np.abs(got[:, 0] - want[far]).max() < 1e-12
+    # between the two curves both columns' pieces are bounded by the same (paired) jumps: the
+    # cubic in yaw; below or above them a cluster bounds one column's piece only: linear blend
+    middle = ((y > curves[0][0]) & (y < curves[1][0]))[far]
+    assert not (flags[middle] & ti.UNMATCHED).any()
+    assert (flags[~middle] & ti.UNMATCHED).any()
+    # the cell either side of yaw 0 had the wrong side before: it is in the sample
+    assert ((yaw[far] > -0.01) & (yaw[far] < 0.0)).sum() > 100
+
+
+def test_jumps_of_neighbouring_columns_pair_by_position_and_wheel():
+    mm = 1e-3
+    a, b = ti.pair_jumps(np.array([-3.21, -3.2, -1.0, 1.234]) * mm, np.ones(4, np.int8),
+                         np.array([-0.9, 1.334, 3.2, 3.21]) * mm, np.ones(4, np.int8), 1.0 * mm)
+    assert a.tolist() == [-1, -1, 0, 1] and b.tolist() == [2, 3, -1, -1]
+    # another wheel, or farther than the reach: no partner
+    a, b = ti.pair_jumps(np.array([0.0, 2.0]) * mm, np.array([1, 1], np.int8),
+                         np.array([0.0, 3.5]) * mm, np.array([2, 1], np.int8), 1.0 * mm)
+    assert a.tolist() == [-1, -1] and b.tolist() == [-1, -1]
+    # a jump that appears between two others keeps the others paired
+    a, b = ti.pair_jumps(np.array([-1.0, 1.0]) * mm, np.ones(2, np.int8),
+                         np.array([-0.8, 0.1, 1.2]) * mm, np.ones(3, np.int8), 1.0 * mm)
+    assert a.tolist() == [0, 2] and b.tolist() == [0, -1, 1]
+
+
 def test_pchip_slopes_match_scipy():
     """The piecewise slopes are SciPy's PchipInterpolator's (an independent implementation)."""
     from scipy.interpolate import PchipInterpolator
