@@ -14,24 +14,31 @@ Representation (built once per table and method, :func:`build`):
   node (a measured error at twice the step, no extra solve).
 * The jumps of neighbouring yaw columns are paired one by one (:func:`pair_jumps`: the
   order-keeping pairing of least distance, on the same wheel, within :data:`PAIR_STEPS` grid
-  steps of y). The same count of jumps is not taken to mean the same jumps: a cluster of the
-  load centre's mesh-step jumps can lose a member while another cluster gains one (on the
-  Manchester 37x37 load-centre table, pairing by index put jumps 4 mm apart together and the
-  rolling radius between those columns erred by up to 8.9 mm).
+  steps of y or farther where the jumps all moved farther). The same count of jumps is not taken
+  to mean the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
+  another cluster gains one (on the Manchester 37x37 load-centre table, pairing by index put
+  jumps 4 mm apart together and the rolling radius between those columns erred by up to 8.9 mm).
+* A paired jump's position at the query's yaw lies on its jump curve, a cubic in yaw through
+  its positions in up to four columns (:func:`_jump_at`); it decides the side for both columns.
+  An unpaired jump decides only for its own column.
 * Along yaw: a cubic (Catmull-Rom: centred-difference slopes from the outer columns j - 1 and
   j + 2) between the two neighbouring columns, every column evaluated *on the same side of the
-  same jump curve*. A paired jump's position at the query's yaw is interpolated between its two
-  positions and decides the side for both columns; an unpaired one decides it for its own column
-  alone. A column whose own jump lies on the other side of the query is evaluated by extending
-  its piece (a short extrapolation, never a blend of two sides). The contact varies about
-  quadratically with yaw (evenly around yaw 0), which linear blending misses by c h^2 / 4: 59 um
-  of rolling radius on the Manchester flange at 5 mrad steps, 4.8 um with the cubic. The cubic
-  needs the two columns' pieces bounded by paired jumps (or the grid's ends); an outer column
-  answers where its piece corresponds too, else the slope there is the second-order one-sided
-  one (in an edge cell too), or the secant when neither outer column answers. Where the two
-  pieces do not correspond (a jump without a partner bounds one of them) the blend is linear
-  (flag :data:`UNMATCHED`). On a column the yaw slope is the cubic's (the same from either
-  cell).
+  same jump curve*. A column whose own jump lies on the other side of the query is evaluated by
+  extending its piece (never a blend of two sides). The contact varies about quadratically with
+  yaw (evenly around yaw 0), which linear blending misses by c h^2 / 4: 59 um of rolling radius
+  on the Manchester flange at 5 mrad steps, 4.8 um with the cubic. The cubic needs the two
+  columns' pieces bounded by paired jumps (or the grid's ends); an outer column answers where its
+  piece corresponds too, else the slope there is the second-order one-sided one (in an edge cell
+  too), or the secant when neither outer column answers. Where the two pieces do not correspond
+  (a jump without a partner bounds one of them) the blend is linear. On a column the yaw slope
+  is the cubic's (the same from either cell).
+* A piece is extended by at most :data:`EXTEND_STEPS` grid steps for the quantities that jump
+  with the contact (:func:`_jumping`: contact points, radii, angles, forces): farther, that
+  column does not answer them and the other column, whose piece holds the query, answers alone
+  (an outer column gives no slope). Next to a flange jump the contact runs up steeply, and a
+  piece extended across that onset errs by millimetres. The wheelset's pose (z_g, roll) only
+  kinks at a jump and is interpolated as above. Flag :data:`UNMATCHED`: a linear blend, or one
+  column answering.
 
 Queries:
 
@@ -47,6 +54,7 @@ Queries:
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numba
@@ -58,9 +66,18 @@ MODES = ("linear", "pchip", "nearest")
 LINEAR, PCHIP, NEAREST = 0, 1, 2
 #: flags of a query (bit mask)
 OUT_OF_RANGE, UNMATCHED = 1, 2
-#: the jumps of neighbouring yaw columns are paired when within this many grid steps of y of
-#: each other (and on the same wheel); leaving both unpaired costs one step each
+#: the jumps of neighbouring yaw columns are paired (on the same wheel) within a reach of this
+#: many grid steps of y, or of PAIR_SPREAD times the median shift of the jumps that are each
+#: other's nearest where that is larger (a coarse yaw grid, jumps moving far between columns)
 PAIR_STEPS = 2.0
+PAIR_SPREAD = 3.0
+#: a quantity whose one-sided limits at some jump differ by more than this many times its
+#: median change over one grid step jumps with the contact (else it only kinks there)
+JUMPING_STEPS = 10.0
+#: a column whose piece would be extended by more than this many grid steps of y beyond its end
+#: knots to reach a query between columns does not answer it for the quantities that jump (the
+#: other column alone does; an outer column gives no slope)
+EXTEND_STEPS = 0.1
 
 
 @dataclass(frozen=True)
@@ -120,6 +137,8 @@ class Interpolator:
         (:func:`pair_jumps`), -1 where none.
     mode : ndarray of int64, (Q,)
         Interpolant per value column.
+    jumps : ndarray of bool, (Q,)
+        Whether the value column jumps at the located jumps (:func:`_jumping`).
     layout : Layout
     """
 
@@ -135,6 +154,7 @@ class Interpolator:
     up: np.ndarray
     down: np.ndarray
     mode: np.ndarray
+    jumps: np.ndarray
     layout: Layout
 
     def evaluate(self, y: np.ndarray, yaw: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -164,7 +184,7 @@ class Interpolator:
     def arrays(self) -> tuple[np.ndarray, ...]:
         """The arguments of the compiled kernels, in their order."""
         return (self.y_axis, self.yaw_axis, self.ky, self.kv, self.kd, self.pstart, self.jy,
-                self.nj, self.up, self.down, self.mode)
+                self.nj, self.up, self.down, self.mode, self.jumps)
 
 
 # -- building ---------------------------------------------------------------------------------
@@ -226,21 +246,42 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
     step = float(np.max(np.diff(y_axis))) if len(y_axis) > 1 else 0.0
     for j in range(nyaw - 1):
         a, b = pair_jumps(jy[j, :nj[j]], jside[j, :nj[j]], jy[j + 1, :nj[j + 1]],
-                          jside[j + 1, :nj[j + 1]], PAIR_STEPS * step)
+                          jside[j + 1, :nj[j + 1]], step)
         up[j, :nj[j]] = a
         down[j + 1, :nj[j + 1]] = b
     return Interpolator(np.asarray(y_axis, float), np.asarray(yaw_axis, float), ky, kv, kd,
                         pstart, np.where(np.isfinite(jy), jy, np.inf), nj, jside, up,
-                        down, mode, layout)
+                        down, mode, _jumping(grid, lim), layout)
 
 
-def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, reach: float
+def _jumping(grid: np.ndarray, lim: np.ndarray | None) -> np.ndarray:
+    """Per value column, whether it jumps where the contact does: at some located jump its
+    one-sided limits differ by more than :data:`JUMPING_STEPS` times its median change over one
+    grid step in y (a contact point, radius or angle). The wheelset's pose (z_g, roll) mostly
+    kinks there, and a piece is extended for it as for a smooth quantity."""
+    out = np.zeros(grid.shape[-1], bool)
+    if lim is None or not lim.size:
+        return out
+    with warnings.catch_warnings():           # an all-NaN column (never solved) has no steps
+        warnings.simplefilter("ignore", RuntimeWarning)
+        typical = np.nanmedian(np.abs(np.diff(grid, axis=0)), axis=(0, 1))
+        step = np.nanmax(np.abs(lim[:, :, 1] - lim[:, :, 0]), axis=(0, 1))
+    return np.nan_to_num(step) > JUMPING_STEPS * np.nan_to_num(typical)
+
+
+def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, step: float
                ) -> tuple[np.ndarray, np.ndarray]:
     """Pair the jumps of two neighbouring yaw columns (positions ``ya``, ``yb`` in m, sorted;
-    wheel masks ``sa``, ``sb``): the order-keeping pairing of least cost, a pair costing the
-    distance of its positions (same wheel mask and closer than ``reach`` (m) only), a jump left
-    unpaired ``reach / 2``. The same count of jumps is not taken to mean the same jumps: a
-    cluster of the load centre's mesh-step jumps can lose a member while another gains one.
+    wheel masks ``sa``, ``sb``; ``step``: the grid's y step, m).
+
+    Where every jump's nearest on its wheel in the other column is its partner by order, both
+    ways (the same jumps, however far they moved), the pairing is one to one. Otherwise it is
+    the order-keeping pairing of least cost: a pair costs the distance of its positions (same
+    wheel mask, within the reach only), a jump left unpaired half the reach. The reach is
+    :data:`PAIR_STEPS` grid steps, or :data:`PAIR_SPREAD` times the median shift of the jumps
+    that are each other's nearest where larger. The same count of jumps is not taken to mean
+    the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
+    another gains one.
 
     Returns
     -------
@@ -248,6 +289,16 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, r
         The partner of each jump of either column, -1 where none.
     """
     na, nb = len(ya), len(yb)
+    a_near = _nearest_on_wheel(ya, sa, yb, sb)
+    b_near = _nearest_on_wheel(yb, sb, ya, sa)
+    if (na == nb and np.array_equal(sa, sb) and np.array_equal(a_near, np.arange(na))
+            and np.array_equal(b_near, np.arange(nb))):
+        return np.arange(na, dtype=np.int64), np.arange(nb, dtype=np.int64)
+    shifts = [abs(float(ya[i]) - float(yb[a_near[i]])) for i in range(na)
+              if a_near[i] >= 0 and b_near[a_near[i]] == i]
+    reach = PAIR_STEPS * step
+    if shifts:
+        reach = max(reach, PAIR_SPREAD * float(np.median(shifts)))
     gap = 0.5 * reach
     cost = np.full((na + 1, nb + 1), np.inf)
     move = np.zeros((na + 1, nb + 1), np.int64)   # 0: pair, 1: a's jump unpaired, 2: b's
@@ -276,6 +327,18 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, r
         else:
             k -= 1
     return a_to_b, b_to_a
+
+
+def _nearest_on_wheel(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray
+                      ) -> np.ndarray:
+    """For each jump of ``ya``, the index of the nearest jump of ``yb`` on the same wheel mask
+    (the lower one on a tie), -1 where none."""
+    out = np.full(len(ya), -1, np.int64)
+    for i in range(len(ya)):
+        same = np.flatnonzero(np.asarray(sb) == sa[i])
+        if same.size:
+            out[i] = same[np.argmin(np.abs(np.asarray(yb, float)[same] - float(ya[i])))]
+    return out
 
 
 def _mode_vector(layout: Layout, arrays: dict[str, np.ndarray], modes: dict[str, str]
@@ -501,22 +564,63 @@ def _piece_of(jy, nj, j, y):  # noqa: ANN001
 
 
 @numba.njit(cache=True)
+def _jump_at(jy, up, down, j, k, m, w):  # noqa: ANN001
+    """Position (m) of the jump curve through jump ``k`` of column ``j`` and its partner ``m``
+    of column j + 1, a fraction ``w`` of the way between them: a cubic in yaw (Catmull-Rom,
+    through the partners in columns j - 1 and j + 2 where paired, else one-sided; the secant
+    where neither is). A jump curve bends with yaw (evenly about yaw 0); on a coarse yaw grid a
+    straight line between two columns misses it by tenths of a millimetre, the width of the
+    steep onset next to a flange jump. One function for both columns' pieces: the same
+    arithmetic decides the same side."""
+    a = jy[j, k]
+    b = jy[j + 1, m]
+    if w == 0.0:
+        return a
+    if w == 1.0:
+        return b
+    lo = down[j, k] if j >= 1 else -1
+    hi = up[j + 1, m] if j + 2 < jy.shape[0] else -1
+    ma = b - a
+    mb = b - a
+    if lo >= 0:
+        ma = 0.5 * (b - jy[j - 1, lo])
+        if hi < 0:
+            mb = 0.5 * (3 * b - 4 * a + jy[j - 1, lo])
+    if hi >= 0:
+        mb = 0.5 * (jy[j + 2, hi] - a)
+        if lo < 0:
+            ma = 0.5 * (-3 * a + 4 * b - jy[j + 2, hi])
+    w2 = w * w
+    w3 = w2 * w
+    return ((2 * w3 - 3 * w2 + 1) * a + (w3 - 2 * w2 + w) * ma + (-2 * w3 + 3 * w2) * b
+            + (w3 - w2) * mb)
+
+
+@numba.njit(cache=True)
 def _piece_in_cell(jy, nj, up, down, j, lower, w, y):  # noqa: ANN001
     """The piece of column ``j`` answering a query at ``y``, a fraction ``w`` of the way from the
     cell's lower column to its upper one (``lower``: ``j`` is the lower column): the number of
-    its jumps at or below ``y``, a paired jump at its position interpolated in yaw (the same
-    arithmetic from either column), an unpaired one at its own."""
+    its jumps at or below ``y``, a paired jump at the position of its curve at the query's yaw
+    (:func:`_jump_at`), an unpaired one at its own."""
     p = 0
     for k in range(nj[j]):
         if lower:
             m = up[j, k]
-            yj = jy[j, k] if m < 0 else (1 - w) * jy[j, k] + w * jy[j + 1, m]
+            yj = jy[j, k] if m < 0 else _jump_at(jy, up, down, j, k, m, w)
         else:
             m = down[j, k]
-            yj = jy[j, k] if m < 0 else (1 - w) * jy[j - 1, m] + w * jy[j, k]
+            yj = jy[j, k] if m < 0 else _jump_at(jy, up, down, j - 1, m, k, w)
         if yj <= y:
             p += 1
     return p
+
+
+@numba.njit(cache=True)
+def _beyond(ky, pstart, j, p, y):  # noqa: ANN001
+    """How far (m) ``y`` lies outside the knots of piece ``p`` of column ``j`` (0 inside)."""
+    lo = ky[j, pstart[j, p]]
+    hi = ky[j, pstart[j, p + 1] - 1]
+    return max(lo - y, y - hi, 0.0)
 
 
 @numba.njit(cache=True)
@@ -542,8 +646,8 @@ def _corresponding(pair, nj, j, o, p):  # noqa: ANN001
 
 
 @numba.njit(cache=True)
-def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y,  # noqa: ANN001
-               yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):
+def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # noqa: ANN001
+               jumps, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):
     """One pose into ``out_v``, ``out_dy``, ``out_dw`` (Q,); ``tmp_v``, ``tmp_d`` (4, Q) scratch
     (the columns j - 1 .. j + 2 around the query's yaw).
 
@@ -590,7 +694,7 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y, 
             m = up[j, k]
             if m < 0 and w >= 0.5:
                 continue
-            yj = jy[j, k] if m < 0 else (1 - w) * jy[j, k] + w * jy[j + 1, m]
+            yj = jy[j, k] if m < 0 else _jump_at(jy, up, down, j, k, m, w)
             if abs(y - yj) < best:
                 best = abs(y - yj)
                 dist = y - yj
@@ -613,12 +717,29 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y, 
         return flags, p, dist
     _piece_eval(ky, kv, kd, mode, j + 1, pstart[j + 1, p1], pstart[j + 1, p1 + 1], y, 1.0,
                 tmp_v[2], tmp_d[2], False)
+    # a column whose piece would be extended far beyond its end knots (its jump moved farther
+    # than the grid resolves between the columns) does not answer: the other column alone
+    only = -1
+    lim = EXTEND_STEPS * (y_axis[-1] - y_axis[0]) / (y_axis.size - 1)
+    if w > 0.0 and w < 1.0:
+        e0 = _beyond(ky, pstart, j, p0, y)
+        e1 = _beyond(ky, pstart, j + 1, p1, y)
+        if e0 > lim and e1 <= lim:
+            only = 2
+        elif e1 > lim and e0 <= lim:
+            only = 1
+    if only > 0:
+        flags |= 2
     # cubic in yaw (Catmull-Rom: centred-difference slopes from the outer columns) where the
     # outer columns hold the corresponding piece; the contact varies ~ quadratically with yaw
     # (even in yaw at yaw 0), which linear blending between columns misses by c h^2 / 4
     # (on a column too: its yaw slope is the cubic's, the same from either cell)
+    # (an outer column whose piece would be extended far to reach the query gives no slope to
+    # the quantities that jump)
     pl = _corresponding(down, nj, j, j - 1, p0) if paired and j >= 1 else -1
     pu = _corresponding(up, nj, j + 1, j + 2, p1) if paired and j + 2 <= na - 1 else -1
+    lo_far = pl >= 0 and _beyond(ky, pstart, j - 1, pl, y) > lim
+    up_far = pu >= 0 and _beyond(ky, pstart, j + 2, pu, y) > lim
     lower = pl >= 0
     upper = pu >= 0
     if lower:
@@ -644,8 +765,8 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y, 
         mb = b - a
         sa = db - da
         sb = db - da
-        lo_ok = lower and np.isfinite(tmp_v[0, c])
-        up_ok = upper and np.isfinite(tmp_v[3, c])
+        lo_ok = lower and np.isfinite(tmp_v[0, c]) and not (lo_far and jumps[c])
+        up_ok = upper and np.isfinite(tmp_v[3, c]) and not (up_far and jumps[c])
         if lo_ok:
             ma = 0.5 * (b - tmp_v[0, c])
             sa = 0.5 * (db - tmp_d[0, c])
@@ -668,19 +789,23 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y, 
             out_v[c] = h00 * a + h10 * ma + h01 * b + h11 * mb
             out_dy[c] = h00 * da + h10 * sa + h01 * db + h11 * sb
         out_dw[c] = (g00 * a + g10 * ma + g01 * b + g11 * mb) / step
+        if only > 0 and jumps[c]:
+            out_v[c] = tmp_v[only, c]
+            out_dy[c] = tmp_d[only, c]
+            out_dw[c] = 0.0
     return flags, p, dist
 
 
 @numba.njit(cache=True)
 def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # noqa: ANN001
     """:func:`lookup_one` over a batch (``arrays`` = :attr:`Interpolator.arrays`)."""
-    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode = arrays
+    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps = arrays
     q = kv.shape[2]
     tmp_v = np.empty((4, q))
     tmp_d = np.empty((4, q))
     for i in range(y.size):
-        f, p, d = lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y[i],
-                             yaw[i], out_v[i], out_dy[i], out_dw[i], tmp_v, tmp_d)
+        f, p, d = lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,
+                             jumps, y[i], yaw[i], out_v[i], out_dy[i], out_dw[i], tmp_v, tmp_d)
         flags[i] = f
         piece[i] = p
         dist[i] = d
@@ -690,6 +815,6 @@ def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # n
 def lookup_point(arrays, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):  # noqa: ANN001
     """:func:`lookup_one` for one pose (``arrays`` = :attr:`Interpolator.arrays`): the compiled
     lookup of the dynamics; returns ``(flags, piece, jump_dist)``."""
-    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode = arrays
-    return lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, y, yaw,
-                      out_v, out_dy, out_dw, tmp_v, tmp_d)
+    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps = arrays
+    return lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps, y,
+                      yaw, out_v, out_dy, out_dw, tmp_v, tmp_d)

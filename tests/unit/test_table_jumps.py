@@ -161,9 +161,10 @@ def test_columns_with_as_many_but_other_jumps_are_read_on_the_same_side_of_each_
     got, _, _, flags, _, _ = ip.evaluate(y[far], yaw[far])
     assert np.abs(got[:, 0] - want[far]).max() < 1e-12
     # between the two curves both columns' pieces are bounded by the same (paired) jumps: the
-    # cubic in yaw; below or above them a cluster bounds one column's piece only: linear blend
-    middle = ((y > curves[0][0]) & (y < curves[1][0]))[far]
-    assert not (flags[middle] & ti.UNMATCHED).any()
+    # cubic in yaw (but within the curve's move between columns, 0.1 mm, of a jump, where one
+    # column answers alone); below or above them a cluster bounds one column's piece only
+    middle = ((y > curves[0][0] + 0.1e-3) & (y < curves[1][0] - 0.1e-3))[far]
+    assert middle.sum() > 500 and not (flags[middle] & ti.UNMATCHED).any()
     assert (flags[~middle] & ti.UNMATCHED).any()
     # the cell either side of yaw 0 had the wrong side before: it is in the sample
     assert ((yaw[far] > -0.01) & (yaw[far] < 0.0)).sum() > 100
@@ -171,17 +172,99 @@ def test_columns_with_as_many_but_other_jumps_are_read_on_the_same_side_of_each_
 
 def test_jumps_of_neighbouring_columns_pair_by_position_and_wheel():
     mm = 1e-3
+    step = 0.5 * mm                                   # reach: two steps unless jumps move far
     a, b = ti.pair_jumps(np.array([-3.21, -3.2, -1.0, 1.234]) * mm, np.ones(4, np.int8),
-                         np.array([-0.9, 1.334, 3.2, 3.21]) * mm, np.ones(4, np.int8), 1.0 * mm)
+                         np.array([-0.9, 1.334, 3.2, 3.21]) * mm, np.ones(4, np.int8), step)
     assert a.tolist() == [-1, -1, 0, 1] and b.tolist() == [2, 3, -1, -1]
-    # another wheel, or farther than the reach: no partner
-    a, b = ti.pair_jumps(np.array([0.0, 2.0]) * mm, np.array([1, 1], np.int8),
-                         np.array([0.0, 3.5]) * mm, np.array([2, 1], np.int8), 1.0 * mm)
-    assert a.tolist() == [-1, -1] and b.tolist() == [-1, -1]
+    # another wheel: no partner; one far beyond what the others moved: none either
+    a, b = ti.pair_jumps(np.array([0.0]) * mm, np.array([1], np.int8),
+                         np.array([0.0]) * mm, np.array([2], np.int8), step)
+    assert a.tolist() == [-1] and b.tolist() == [-1]
+    a, b = ti.pair_jumps(np.array([-1.0, 0.0, 2.0]) * mm, np.ones(3, np.int8),
+                         np.array([-0.9, 0.1, 4.0]) * mm, np.ones(3, np.int8), step)
+    assert a.tolist() == [0, 1, -1] and b.tolist() == [0, 1, -1]
     # a jump that appears between two others keeps the others paired
     a, b = ti.pair_jumps(np.array([-1.0, 1.0]) * mm, np.ones(2, np.int8),
-                         np.array([-0.8, 0.1, 1.2]) * mm, np.ones(3, np.int8), 1.0 * mm)
+                         np.array([-0.8, 0.1, 1.2]) * mm, np.ones(3, np.int8), step)
     assert a.tolist() == [0, 2] and b.tolist() == [0, -1, 1]
+    # a coarse yaw grid: the jumps moved 3 steps, each still the other's nearest: paired
+    a, b = ti.pair_jumps(np.array([-4.0, 2.0]) * mm, np.array([2, 1], np.int8),
+                         np.array([-2.5, 0.5]) * mm, np.array([2, 1], np.int8), step)
+    assert a.tolist() == [0, 1] and b.tolist() == [0, 1]
+    # ... and where one more jump appears, the others' shift sets the reach
+    a, b = ti.pair_jumps(np.array([-4.0, 2.0]) * mm, np.array([2, 1], np.int8),
+                         np.array([-2.5, 0.5, 3.9]) * mm, np.array([2, 1, 1], np.int8), step)
+    assert a.tolist() == [0, 1] and b.tolist() == [0, 1, -1]
+
+
+def test_a_jump_moving_several_steps_between_columns_is_still_followed():
+    """A coarse yaw grid: the jump curve moves 1.5 mm (3 grid steps) from column to column, and
+    every query between the columns still lands on its exact branch (nothing blended)."""
+    y_axis = np.linspace(-4e-3, 4e-3, 17)
+    yaw_axis = np.linspace(-0.02, 0.02, 5)
+    at = lambda yaw: 0.2e-3 + 0.15 * yaw                        # noqa: E731 - m
+    branch = lambda y, upper: np.where(upper, 0.47 + y, 0.46 + 0.05 * y)  # noqa: E731
+    rr = branch(y_axis[:, None], y_axis[:, None] >= at(yaw_axis)[None, :])
+    pos = at(yaw_axis)[:, None]
+    lo, hi = pos - 2e-6, pos + 2e-6
+    jumps = {"jump_y": pos, "jump_y_lo": lo, "jump_y_hi": hi,
+             "jump_side": np.ones(pos.shape, np.int8)}
+    limits = {"rolling_radius": np.stack([branch(lo, False), branch(hi, True)], axis=2)}
+    ip = ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, limits,
+                  modes={"rolling_radius": "pchip"})
+    rng = np.random.default_rng(5)
+    yaw = rng.uniform(-0.02, 0.02, 1000)
+    y = at(yaw) + rng.uniform(-0.75e-3, 0.75e-3, 1000)
+    far = np.abs(y - at(yaw)) > 5e-6
+    got, _, _, flags, _, _ = ip.evaluate(y[far], yaw[far])
+    assert np.abs(got[:, 0] - branch(y, y >= at(yaw))[far]).max() < 1e-12
+    # a pose is flagged (one column answering) only where a column's own jump lies between it
+    # and the jump curve at its yaw
+    j = np.clip(np.searchsorted(yaw_axis, yaw[far]) - 1, 0, 3)
+    own = np.stack([at(yaw_axis[j]), at(yaw_axis[j + 1])])
+    side = y[far] >= at(yaw[far])
+    crossed = ((own <= y[far]) != side).any(axis=0)
+    assert not (flags[~crossed] & ti.UNMATCHED).any() and (flags[crossed] & ti.UNMATCHED).any()
+
+
+def test_a_column_does_not_answer_far_beyond_its_piece_but_the_pose_still_interpolates():
+    """The jump moves 1 mm (2 grid steps) per column and the upper branch kinks at y = 0.5 mm,
+    between a query and the jump of the column that has not reached it yet: extending that
+    column's piece would miss the kink, so the other column (whose piece holds the query)
+    answers alone. The wheelset's height, which only kinks at a jump, still interpolates in
+    yaw (exactly, being linear in yaw here)."""
+    y_axis = np.linspace(-4e-3, 4e-3, 17)
+    yaw_axis = np.linspace(-0.02, 0.02, 5)
+    at = lambda yaw: -0.1e-3 + 0.1 * yaw                                    # noqa: E731 - m
+
+    def rr(y, upper):
+        return np.where(upper, 0.47 + y + 0.1 * np.maximum(0.0, 0.5e-3 - y), 0.46 + 0.05 * y)
+
+    def zg(y, yaw):
+        return 0.46 + 0.1 * yaw + 1e-3 * y + 0.0 * np.asarray(yaw)
+
+    ys, yaws = y_axis[:, None], yaw_axis[None, :]
+    arrays = {"rolling_radius": rr(ys, ys >= at(yaws)), "z_g": zg(ys, yaws) + 0 * ys}
+    pos = at(yaw_axis)[:, None]
+    lo, hi = pos - 2e-6, pos + 2e-6
+    jumps = {"jump_y": pos, "jump_y_lo": lo, "jump_y_hi": hi,
+             "jump_side": np.ones(pos.shape, np.int8)}
+    limits = {"rolling_radius": np.stack([rr(lo, False), rr(hi, True)], axis=2),
+              "z_g": np.stack([zg(lo, yaw_axis[:, None]), zg(hi, yaw_axis[:, None])], axis=2)}
+    ip = ti.build(y_axis, yaw_axis, arrays, jumps, limits,
+                  modes={"rolling_radius": "linear", "z_g": "linear"})
+    assert ip.jumps.tolist() == [True, False]          # rolling radius jumps, z_g does not
+    rng = np.random.default_rng(2)
+    yaw = rng.uniform(-0.02, 0.02, 2000)
+    y = at(yaw) + rng.uniform(-0.9e-3, 0.9e-3, 2000)
+    keep = np.abs(y - at(yaw)) > 5e-6
+    y, yaw = y[keep], yaw[keep]
+    got, _, _, flags, _, _ = ip.evaluate(y, yaw)
+    # exact up to round-off (extending the far column's piece instead: 7e-6 off)
+    assert np.abs(got[:, 0] - rr(y, y >= at(yaw))).max() < 1e-12
+    assert np.abs(got[:, 1] - zg(y, yaw)).max() < 1e-12
+    # the poses answered by one column are flagged, and they are where the kink lies between
+    assert (flags & ti.UNMATCHED).any() and not (flags & ti.UNMATCHED).all()
 
 
 def test_pchip_slopes_match_scipy():
