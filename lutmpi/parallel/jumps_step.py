@@ -83,7 +83,8 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
             "interpolants": json.dumps(modes), "candidate_m": _jumps.CANDIDATE_M,
-            "confirm_m": _jumps.CONFIRM_M, "tol_m": _jumps.TOL_M,
+            "confirm_m": _jumps.CONFIRM_M, "candidate_rate_ratio": _jumps.RATE_RATIO,
+            "tol_m": _jumps.TOL_M,
             "refine_tol": json.dumps(_jumps.REFINE_TOL), "min_width_m": _jumps.MIN_WIDTH_M,
             "refine_mesh_spacing_m": json.dumps(None if mesh is None else mesh.spacing.tolist()),
             "refine_mesh_centroid": bool(mesh is not None and mesh.centroid),

@@ -10,7 +10,11 @@ Algorithm, per yaw column and per grid cell ``[y_i, y_i+1]``:
 
 1. *Candidate*: the two end states differ in a discrete key (status, contacts per wheel) or the
    primary contact point of a wheel moves by more than :data:`CANDIDATE_M` (wheel ``s`` or rail
-   ``v``) between them.
+   ``v``) between them, or by more than :data:`CONFIRM_M` and :data:`RATE_RATIO` times as far as
+   in the slower of the two neighbouring cells (a smaller jump on a slowly moving contact: on a
+   worn flange the contact point jumps by ~1 mm, which the fixed threshold alone let through,
+   and the table ran straight across it). Such a cell is searched with :data:`CONFIRM_M` as
+   its threshold.
 2. *Bisection* with direct pose solves: the midpoint state joins the end it is closer to (a
    discrete mismatch counts more than any movement), until the bracket ``[lo, hi]`` is at most
    :data:`TOL_M` wide; the jump lies at its middle, within ``TOL_M / 2``.
@@ -48,6 +52,9 @@ from lutmpi.table.schema import JUMP_FIELDS, D, Field, J
 CANDIDATE_M = 2e-3
 #: movement (m) still left across a refined bracket that confirms a contact-point jump
 CONFIRM_M = 0.5e-3
+#: a cell whose contact point moves by more than CONFIRM_M and this many times as far as in the
+#: slower of its neighbouring cells is a candidate too
+RATE_RATIO = 2.0
 #: width (m) of a refined bracket: the jump is located within +-TOL_M / 2
 TOL_M = 5e-6
 #: most jumps searched in one grid cell
@@ -184,10 +191,22 @@ def candidate_cells(arrays: dict[str, np.ndarray], threshold: float = CANDIDATE_
     out = []
     for j in range(nyaw):
         keys = [_keys(_node(arrays, i, j)) for i in range(ny)]
+        moves = [_movement(keys[i][1], keys[i + 1][1]) for i in range(ny - 1)]
         for i in range(ny - 1):
-            if classify(keys[i], keys[i + 1], threshold)[0]:
+            if classify(keys[i], keys[i + 1], threshold)[0] or _sudden(moves, i):
                 out.append((j, i))
     return out
+
+
+def _sudden(moves: list[np.ndarray], i: int) -> bool:
+    """Whether cell ``i``'s primary contact moves (per wheel, ``moves[i]``, m) by more than
+    :data:`CONFIRM_M` and :data:`RATE_RATIO` times as far as in the slower neighbouring cell."""
+    near = [moves[k] for k in (i - 1, i + 1) if 0 <= k < len(moves)]
+    if not near:
+        return False
+    slower = np.minimum.reduce(near)
+    m = moves[i]
+    return bool(np.any(np.isfinite(m) & (m > CONFIRM_M) & (m > RATE_RATIO * slower)))
 
 
 def _node(arrays: dict[str, np.ndarray], i: int, j: int) -> Record:
@@ -230,8 +249,10 @@ def refine_cell(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.
         samples.append((y, rec))
         return rec
 
-    found = _search(lo, _node(arrays, i, j), hi, _node(arrays, i + 1, j), sampled, j, tol,
-                    threshold, confirm, MAX_PER_CELL)
+    rlo, rhi = _node(arrays, i, j), _node(arrays, i + 1, j)
+    if not classify(_keys(rlo), _keys(rhi), threshold)[0]:
+        threshold = confirm       # a candidate by its sudden movement (:func:`_sudden`)
+    found = _search(lo, rlo, hi, rhi, sampled, j, tol, threshold, confirm, MAX_PER_CELL)
     return found, samples
 
 

@@ -109,6 +109,35 @@ def test_a_query_across_a_jump_never_returns_a_blend(synthetic_table):
     assert np.minimum(np.abs(blended - tread), np.abs(blended - flange)).max() > 1e-3
 
 
+def test_a_small_jump_on_a_slowly_moving_contact_is_located():
+    """On a worn flange the contact point creeps (0.2 mm per mm of y here) and then jumps by
+    1 mm, with no change of contact count: a cell's end-to-end movement (1.1 mm) stays below
+    the fixed candidate threshold (2 mm), but it is five times its neighbours'. The jump is
+    located within the tolerance, and nothing else is."""
+    y_axis = np.linspace(-4e-3, 4e-3, 17)
+    yaw_axis = np.array([0.0])
+    at = 1.234e-3
+
+    def creeping(y: float, yaw: float) -> dict[str, np.ndarray]:
+        rec = synthetic(y, yaw)
+        s = -0.04 + 0.2 * y - (1e-3 if y >= at else 0.0)
+        rec["wheel_s"][:, 0] = [s, -0.2 * y]
+        rec["rail_v"][:, 0] = [0.5 * s, 0.2 * y]
+        rec["rolling_radius"][:, 0] = [0.478 - s, 0.46]
+        rec["n_contacts"] = np.array([1, 1], np.int8)
+        return rec
+
+    out = {f.name: f.empty((y_axis.size, 1)) for f in FLDS}
+    for i, y in enumerate(y_axis):
+        for name, v in creeping(float(y), 0.0).items():
+            out[name][i, 0] = v
+    assert tj.candidate_cells(out, threshold=tj.CANDIDATE_M) == [(0, 10)]
+    js = tj.locate_jumps(out, y_axis, yaw_axis, creeping, FLDS, refine=False)
+    assert js.count.tolist() == [1]
+    assert abs(js.arrays["jump_y"][0, 0] - at) <= tj.TOL_M / 2
+    assert js.arrays["jump_kind"][0, 0] == 1 and js.arrays["jump_side"][0, 0] == 1
+
+
 def test_outside_the_grid_is_flagged_with_nan(synthetic_table):
     _, _, _, _, ip, _ = synthetic_table
     value, _, _, flags, piece, _ = ip.evaluate(np.array([0.0, 5e-3, 0.0, np.nan]),
