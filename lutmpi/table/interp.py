@@ -720,7 +720,8 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     # a column whose piece would be extended far beyond its end knots (its jump moved farther
     # than the grid resolves between the columns) does not answer: the other column alone
     only = -1
-    lim = EXTEND_STEPS * (y_axis[-1] - y_axis[0]) / (y_axis.size - 1)
+    lim = (EXTEND_STEPS * (y_axis[-1] - y_axis[0]) / (y_axis.size - 1) if y_axis.size > 1
+           else 0.0)
     if w > 0.0 and w < 1.0:
         e0 = _beyond(ky, pstart, j, p0, y)
         e1 = _beyond(ky, pstart, j + 1, p1, y)

@@ -306,6 +306,17 @@ def test_pchip_slopes_match_scipy():
     np.testing.assert_allclose(ti.pchip_slopes(x, v), want, rtol=1e-12, atol=1e-14)
 
 
+def test_a_one_value_y_axis_interpolates_between_yaw_columns():
+    """A grid of one lateral shift and several yaws (``grid.y_mm = [y, y, 1]``) answers between
+    its yaw columns (the limit on a piece's extension is in grid steps of y, of which it has
+    none: it divided by zero)."""
+    ip = ti.build(np.array([0.0]), np.array([-0.01, 0.0, 0.01]),
+                  {"z_g": np.array([[0.46, 0.461, 0.462]])})
+    value, _, slope, flags, _, _ = ip.evaluate(np.array([0.0]), np.array([0.005]))
+    assert value[0, 0] == pytest.approx(0.4615, abs=1e-15) and flags[0] == 0
+    assert slope[0, 0] == pytest.approx(0.1, rel=1e-12)
+
+
 def test_a_one_value_yaw_axis_is_a_valid_1d_grid(tmp_path):
     cfg = tmp_path / "c.toml"
     cfg.write_text('[wheel]\ngenerator = "S1002"\n[rail]\ngenerator = "UIC60"\n'
