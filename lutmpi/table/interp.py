@@ -74,6 +74,8 @@ PAIR_SPREAD = 3.0
 #: a quantity whose one-sided limits at some jump differ by more than this many times its
 #: median change over one grid step jumps with the contact (else it only kinks there)
 JUMPING_STEPS = 10.0
+#: the wheelset's pose: continuous where the contact jumps (a kink), never treated as jumping
+KINKING = (D.z_g, D.roll)
 #: a column whose piece would be extended by more than this many grid steps of y beyond its end
 #: knots to reach a query between columns does not answer it for the quantities that jump (the
 #: other column alone does; an outer column gives no slope)
@@ -251,14 +253,16 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
         down[j + 1, :nj[j + 1]] = b
     return Interpolator(np.asarray(y_axis, float), np.asarray(yaw_axis, float), ky, kv, kd,
                         pstart, np.where(np.isfinite(jy), jy, np.inf), nj, jside, up,
-                        down, mode, _jumping(grid, lim), layout)
+                        down, mode, _jumping(grid, lim, layout), layout)
 
 
-def _jumping(grid: np.ndarray, lim: np.ndarray | None) -> np.ndarray:
+def _jumping(grid: np.ndarray, lim: np.ndarray | None, layout: Layout) -> np.ndarray:
     """Per value column, whether it jumps where the contact does: at some located jump its
     one-sided limits differ by more than :data:`JUMPING_STEPS` times its median change over one
-    grid step in y (a contact point, radius or angle). The wheelset's pose (z_g, roll) mostly
-    kinks there, and a piece is extended for it as for a smooth quantity."""
+    grid step in y (a contact point, radius or angle). Never the wheelset's pose
+    (:data:`KINKING`): it only kinks at a contact jump, and a piece is extended for it as for a
+    smooth quantity (on a flat tread its median step is so small that the µm it moves at a
+    jump would count as one)."""
     out = np.zeros(grid.shape[-1], bool)
     if lim is None or not lim.size:
         return out
@@ -266,7 +270,12 @@ def _jumping(grid: np.ndarray, lim: np.ndarray | None) -> np.ndarray:
         warnings.simplefilter("ignore", RuntimeWarning)
         typical = np.nanmedian(np.abs(np.diff(grid, axis=0)), axis=(0, 1))
         step = np.nanmax(np.abs(lim[:, :, 1] - lim[:, :, 0]), axis=(0, 1))
-    return np.nan_to_num(step) > JUMPING_STEPS * np.nan_to_num(typical)
+    out = np.nan_to_num(step) > JUMPING_STEPS * np.nan_to_num(typical)
+    for name in KINKING:
+        if name in layout.slots:
+            off, suffix = layout.slots[name]
+            out[off:off + int(np.prod(suffix, dtype=int))] = False
+    return out
 
 
 def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, step: float

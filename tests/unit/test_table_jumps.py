@@ -199,6 +199,23 @@ def test_columns_with_as_many_but_other_jumps_are_read_on_the_same_side_of_each_
     assert ((yaw[far] > -0.01) & (yaw[far] < 0.0)).sum() > 100
 
 
+def test_the_wheelset_pose_is_never_taken_to_jump():
+    """On a flat tread z_g hardly moves from node to node, so the micrometre it moves at a
+    contact jump is many of its median steps; it still only kinks there, and stays interpolated
+    across yaw. The same numbers as a contact coordinate do count as a jump."""
+    y_axis = np.linspace(-2e-3, 2e-3, 9)
+    yaw_axis = np.array([-0.01, 0.0, 0.01])
+    flat = 0.46 + 1e-9 * np.arange(9)[:, None] + 1e-6 * (y_axis[:, None] >= 0.1e-3)
+    grid = np.repeat(flat, 3, axis=1)
+    pos = np.full((3, 1), 0.1e-3)
+    lim = np.stack([np.full((3, 1), 0.46), np.full((3, 1), 0.460001)], axis=2)
+    jumps = {"jump_y": pos, "jump_y_lo": pos - 2e-6, "jump_y_hi": pos + 2e-6,
+             "jump_side": np.ones((3, 1), np.int8)}
+    ip = ti.build(y_axis, yaw_axis, {"z_g": grid, "wheel_s": grid}, jumps,
+                  {"z_g": lim, "wheel_s": lim})
+    assert ip.jumps.tolist() == [False, True]
+
+
 def test_jumps_of_neighbouring_columns_pair_by_position_and_wheel():
     mm = 1e-3
     step = 0.5 * mm                                   # reach: two steps unless jumps move far
