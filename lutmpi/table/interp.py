@@ -579,8 +579,8 @@ def _jump_at(jy, up, down, j, k, m, w):  # noqa: ANN001
     through the partners in columns j - 1 and j + 2 where paired, else one-sided; the secant
     where neither is). A jump curve bends with yaw (evenly about yaw 0); on a coarse yaw grid a
     straight line between two columns misses it by tenths of a millimetre, the width of the
-    steep onset next to a flange jump. One function for both columns' pieces: the same
-    arithmetic decides the same side."""
+    steep onset next to a flange jump. Computed once per paired jump, it decides the side for
+    both columns."""
     a = jy[j, k]
     b = jy[j + 1, m]
     if w == 0.0:
@@ -603,25 +603,6 @@ def _jump_at(jy, up, down, j, k, m, w):  # noqa: ANN001
     w3 = w2 * w
     return ((2 * w3 - 3 * w2 + 1) * a + (w3 - 2 * w2 + w) * ma + (-2 * w3 + 3 * w2) * b
             + (w3 - w2) * mb)
-
-
-@numba.njit(cache=True)
-def _piece_in_cell(jy, nj, up, down, j, lower, w, y):  # noqa: ANN001
-    """The piece of column ``j`` answering a query at ``y``, a fraction ``w`` of the way from the
-    cell's lower column to its upper one (``lower``: ``j`` is the lower column): the number of
-    its jumps at or below ``y``, a paired jump at the position of its curve at the query's yaw
-    (:func:`_jump_at`), an unpaired one at its own."""
-    p = 0
-    for k in range(nj[j]):
-        if lower:
-            m = up[j, k]
-            yj = jy[j, k] if m < 0 else _jump_at(jy, up, down, j, k, m, w)
-        else:
-            m = down[j, k]
-            yj = jy[j, k] if m < 0 else _jump_at(jy, up, down, j - 1, m, k, w)
-        if yj <= y:
-            p += 1
-    return p
 
 
 @numba.njit(cache=True)
@@ -697,21 +678,36 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
                 best = abs(y - jy[j, k])
                 dist = y - jy[j, k]
     else:
-        p0 = _piece_in_cell(jy, nj, up, down, j, True, w, y)
-        p1 = _piece_in_cell(jy, nj, up, down, j + 1, False, w, y)
-        for k in range(nj[j]):            # paired jumps, and the nearer column's unpaired ones
+        # each column's piece: the number of its jumps at or below y, a paired jump at its
+        # curve's position at this yaw (:func:`_jump_at`, computed once for both columns), an
+        # unpaired one at its own; the distance: to the paired jumps and the nearer column's
+        # unpaired ones
+        p0 = 0
+        p1 = 0
+        for k in range(nj[j]):
             m = up[j, k]
-            if m < 0 and w >= 0.5:
-                continue
-            yj = jy[j, k] if m < 0 else _jump_at(jy, up, down, j, k, m, w)
+            if m < 0:
+                yj = jy[j, k]
+                if yj <= y:
+                    p0 += 1
+                if w >= 0.5:
+                    continue
+            else:
+                yj = _jump_at(jy, up, down, j, k, m, w)
+                if yj <= y:
+                    p0 += 1
+                    p1 += 1
             if abs(y - yj) < best:
                 best = abs(y - yj)
                 dist = y - yj
-        if w >= 0.5:
-            for k in range(nj[j + 1]):
-                if down[j + 1, k] < 0 and abs(y - jy[j + 1, k]) < best:
-                    best = abs(y - jy[j + 1, k])
-                    dist = y - jy[j + 1, k]
+        for k in range(nj[j + 1]):
+            if down[j + 1, k] < 0:
+                yj = jy[j + 1, k]
+                if yj <= y:
+                    p1 += 1
+                if w >= 0.5 and abs(y - yj) < best:
+                    best = abs(y - yj)
+                    dist = y - yj
         paired = _corresponding(up, nj, j, j + 1, p0) == p1
         if w > 0.0 and not paired:
             flags |= 2   # the two pieces are not bounded by the same jumps: a linear blend
