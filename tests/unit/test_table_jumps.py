@@ -287,10 +287,10 @@ def test_a_column_does_not_answer_far_beyond_its_piece_but_the_pose_still_interp
         return np.where(upper, 0.47 + y + 0.1 * np.maximum(0.0, 0.5e-3 - y), 0.46 + 0.05 * y)
 
     def zg(y, yaw):
-        return 0.46 + 0.1 * yaw + 1e-3 * y + 0.0 * np.asarray(yaw)
+        return 0.46 + 0.1 * yaw + 1e-3 * y
 
     ys, yaws = y_axis[:, None], yaw_axis[None, :]
-    arrays = {"rolling_radius": rr(ys, ys >= at(yaws)), "z_g": zg(ys, yaws) + 0 * ys}
+    arrays = {"rolling_radius": rr(ys, ys >= at(yaws)), "z_g": zg(ys, yaws)}
     pos = at(yaw_axis)[:, None]
     lo, hi = pos - 2e-6, pos + 2e-6
     jumps = {"jump_y": pos, "jump_y_lo": lo, "jump_y_hi": hi,
