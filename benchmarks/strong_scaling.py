@@ -11,12 +11,15 @@ issue 14). Names of the figures printed:
 
 * ``command``: wall time of ``[mpirun -n N] lutmpi build`` -- start-up, imports, compiled kernels
   loaded, every point, the file;
-* ``build``: the table's ``wall_time_s`` (from the build's start on every rank to the complete
-  file);
-* ``speed-up`` = T(1 rank) / T(N ranks) and ``efficiency`` = speed-up / N, for both;
-* ``busy``: per rank, the summed wall time of its pose solves; ``work growth`` = sum of busy over
-  N ranks / busy of the 1-rank run (> 1: each point got slower with N ranks busy, e.g. shared
-  caches, memory bandwidth, or more ranks than cores).
+* ``grid``: the table's root ``wall_time_s``: from the build's start to its last grid point
+  (every rank's points solved);
+* ``jumps``: the jump step after the grid (issue 11: jumps located, the pieces between them
+  refined), the ``wall_time_s`` of every method's ``/<method>/jumps`` summed; on the paper's
+  table most of the whole command;
+* ``speed-up`` = T(1 rank) / T(N ranks) and ``efficiency`` = speed-up / N, for each;
+* ``busy``: per rank, the summed wall time of its grid's pose solves; ``work growth`` = sum of
+  busy over N ranks / busy of the 1-rank run (> 1: each point got slower with N ranks busy, e.g.
+  shared caches, memory bandwidth, or more ranks than cores).
 
 On a machine with fewer cores than N, ranks share cores (Open MPI oversubscribed): those rows
 measure the overhead, not scaling. The machine's core count is printed.
@@ -25,6 +28,7 @@ measure the overhead, not scaling. The machine's core count is printed.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import re
 import subprocess
@@ -71,13 +75,18 @@ def run_build(config: str, out: Path, ranks: int) -> float:
     return total
 
 
-def read(path: Path) -> tuple[dict[str, np.ndarray], float, np.ndarray]:
+def read(path: Path) -> tuple[dict[str, np.ndarray], float, float, np.ndarray]:
+    """The table's datasets (timing fields left out), its grid wall time, its jump steps'
+    summed wall time (s) and the per-rank busy time of its grid (s)."""
     data: dict[str, np.ndarray] = {}
     with h5py.File(path, "r") as f:
         f.visititems(lambda n, o: data.__setitem__(n, o[...])
                      if isinstance(o, h5py.Dataset) and n.split("/")[-1] not in TIMING_FIELDS
                      else None)
-        return data, float(f.attrs["wall_time_s"]), np.atleast_1d(f.attrs["rank_busy_s"])
+        jumps = sum(float(f[m]["jumps"].attrs["wall_time_s"])
+                    for m in json.loads(f.attrs["methods"]) if "jumps" in f[m])
+        return (data, float(f.attrs["wall_time_s"]), jumps,
+                np.atleast_1d(f.attrs["rank_busy_s"]))
 
 
 def identical(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> bool:
@@ -97,19 +106,22 @@ def main() -> None:
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  cores {os.cpu_count()}  "
           f"load {tuple(round(x, 2) for x in os.getloadavg())}  {a.config}"
           f"{f' grid {a.grid[0]} x {a.grid[1]}' if a.grid else ''}")
-    print(f"{'N':>3s} {'command s':>10s} {'speed-up':>8s} {'eff':>6s} {'build s':>8s} "
-          f"{'speed-up':>8s} {'eff':>6s} {'work growth':>11s} {'parity':>7s}  busy per rank s")
+    print(f"{'N':>3s} {'command s':>10s} {'speed-up':>8s} {'eff':>6s} {'grid s':>7s} "
+          f"{'speed-up':>8s} {'eff':>6s} {'jumps s':>8s} {'speed-up':>8s} {'eff':>6s} "
+          f"{'work growth':>11s} {'parity':>7s}  grid busy per rank s")
     base = None
     for n in ranks:
         out = tmp / f"n{n}.h5"
         total = run_build(config, out, n)
-        data, wall, busy = read(out)
+        data, wall, jumps, busy = read(out)
         if base is None:
-            base = (total, wall, busy.sum(), data)
-        same = identical(base[3], data)
-        su_c, su_b = base[0] / total, base[1] / wall
-        print(f"{n:3d} {total:10.2f} {su_c:8.2f} {su_c / n:6.1%} {wall:8.2f} {su_b:8.2f} "
-              f"{su_b / n:6.1%} {busy.sum() / base[2]:11.3f} {'ok' if same else 'DIFFERS':>7s}  "
+            base = (total, wall, jumps, busy.sum(), data)
+        same = identical(base[4], data)
+        su_c, su_g = base[0] / total, base[1] / wall
+        su_j = base[2] / jumps if jumps > 0 else float("nan")
+        print(f"{n:3d} {total:10.2f} {su_c:8.2f} {su_c / n:6.1%} {wall:7.2f} {su_g:8.2f} "
+              f"{su_g / n:6.1%} {jumps:8.2f} {su_j:8.2f} {su_j / n:6.1%} "
+              f"{busy.sum() / base[3]:11.3f} {'ok' if same else 'DIFFERS':>7s}  "
               f"{np.round(busy, 2).tolist()}", flush=True)
         if not same:
             sys.exit(f"parity: the {n}-rank table differs from the 1-rank table")
