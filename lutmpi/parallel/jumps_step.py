@@ -67,12 +67,17 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
     t0 = time.perf_counter()
     full = _all_rows(comm, row_start, blocks)
     lfields = limit_fields(fields)
+    spent = [0.0, 0]   # this rank's pose solves: seconds, count (the grid's "busy" alike)
     for method in methods:
         t_method = time.perf_counter()
         arrays = full[method]
 
         def solve(y: float, yaw: float, method: str = method) -> dict[str, np.ndarray]:
-            return pose_to_record(solver(scene, y, yaw, method), lfields)
+            t = time.perf_counter()
+            rec = pose_to_record(solver(scene, y, yaw, method), lfields)
+            spent[0] += time.perf_counter() - t
+            spent[1] += 1
+            return rec
 
         mesh = mesh_resolution(scene, method)
         # the grid nodes as the search sees them: the fields a solved record holds (not timing)
@@ -99,7 +104,22 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
     wheels, _ = side_profiles(config)
     h5io.write_root_attributes(f, _jumps.dynamics_attributes(config, wheels))
-    log.debug("jumps step %.2f s", time.perf_counter() - t0)
+    _log_work(comm, time.perf_counter() - t0, spent)
+
+
+def _log_work(comm: Any, wall: float, spent: list) -> None:
+    """The jump step's figures in the build log (rank 0), named as the grid's are: its wall
+    time, each rank's summed pose-solve time ("busy") and count, and summed busy / wall, which
+    is the speed-up over one rank only where a solve costs the same on N ranks (issue 14)."""
+    busy = comm.gather((spent[0], spent[1]), root=0)
+    wall = comm.bcast(wall, root=0)
+    if comm.rank == 0:
+        total = sum(b for b, _ in busy)
+        log.info("jump step: wall %.2f s on %d rank(s); %d pose solves; busy per rank %s s; "
+                 "summed busy / wall %.2f; busy fraction %.1f %%", wall, comm.size,
+                 sum(n for _, n in busy), [round(b, 2) for b, _ in busy],
+                 total / wall if wall > 0 else 0.0,
+                 100 * total / (comm.size * wall) if wall > 0 else 0.0)
 
 
 def mesh_resolution(scene: Any, method: str) -> _jumps.MeshResolution | None:

@@ -107,3 +107,28 @@ def test_sweep_solver_without_warm_or_raising_there_records_the_pose(tmp_path):
     assert len(calls) == 3                              # warmed once per method, not again
     solver(scene, 0.0, 0.0, "max_distance")             # a method's first solve warms it
     assert len(calls) == 5
+
+
+def test_jump_step_reports_its_own_solves_and_busy_time(tmp_path, caplog):
+    """The jump step after the grid is most of a real build (BENCHMARKS.md): the log gives its
+    wall time, its pose solves and their summed time per rank, as the grid's figures are given,
+    so that its parallel efficiency can be read."""
+    import re
+
+    cfg = load_config(write_config(tmp_path, ny=9, nyaw=3))
+    calls = []
+
+    def solver(scene, y, yaw, method):
+        calls.append((y, yaw, method))
+        time.sleep(SOLVE_S)
+        return faulty_solver.solve(scene, y, yaw, method)
+
+    with caplog.at_level(logging.INFO, logger="lutmpi.parallel.jumps_step"):
+        build_table(cfg, tmp_path / "t.h5", solver=solver,
+                    scene_factory=faulty_solver.make_scene, checkpoint_interval_s=0.0)
+    after_grid = len(calls) - 9 * 3 * len(cfg.output.methods)
+    line = re.search(r"jump step: wall ([\d.]+) s on 1 rank\(s\); (\d+) pose solves; busy per "
+                     r"rank \[([\d.]+)\] s", caplog.text)
+    assert line, caplog.text
+    assert int(line[2]) == after_grid > 0
+    assert after_grid * SOLVE_S <= float(line[3]) + 0.01 <= float(line[1]) + 0.02
