@@ -27,7 +27,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-import h5py  # noqa: E402
 from strong_scaling import derived_config, read, run_build  # noqa: E402
 
 IN_PROCESS = """
@@ -49,13 +48,6 @@ print(f"one process: imports {{t1 - t0:.2f}} s, config + scene {{t2 - t1:.2f}} s
 """
 
 
-def jump_step_time(path: Path) -> float:
-    """Summed wall time of the jump step of every method of a table, s."""
-    with h5py.File(path, "r") as f:
-        return sum(float(f[m]["jumps"].attrs.get("wall_time_s", 0.0))
-                   for m in f if isinstance(f[m], h5py.Group) and "jumps" in f[m])
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config")
@@ -67,9 +59,8 @@ def main() -> None:
           f"load {tuple(round(x, 2) for x in os.getloadavg())}  {a.config} (2 x 2 grid)")
     for n in a.ranks:
         total = run_build(config, tmp / f"n{n}.h5", n)
-        _, wall, busy = read(tmp / f"n{n}.h5")
-        jumps = jump_step_time(tmp / f"n{n}.h5")
-        print(f"{n} rank(s): command {total:.2f} s, build {wall:.2f} s, points {busy.max():.3f} s,"
+        _, wall, jumps, busy = read(tmp / f"n{n}.h5")
+        print(f"{n} rank(s): command {total:.2f} s, grid {wall:.2f} s, points {busy.max():.3f} s,"
               f" jumps {jumps:.2f} s, fixed {total - busy.max() - jumps:.2f} s")
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     subprocess.run([sys.executable, "-c", IN_PROCESS.format(config=config)], env=env, check=True)
