@@ -56,6 +56,7 @@ T_PART = "tests/unit/test_table_partition.py"
 T_SCHEMA = "tests/unit/test_table_schema.py"
 T_INTERP = "tests/unit/test_interp_nearest.py"
 T_NEWTON = "tests/unit/test_pose_newton.py"
+T_JUMPS = "tests/unit/test_table_jumps.py"
 T_BATCH = ("tests/integration/test_real_solver_parity.py::"
            "test_static_split_with_multi_point_batches_equals_serial")
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
@@ -221,6 +222,33 @@ MUTATIONS: tuple[Mutation, ...] = (
       "    near_first = t < 0.5",
       "    near_first = t < 0.9", (T_API, T_INTERP),
       "nearest knot of integer data rounds at 0.9"),
+    # -- jump-aware tables: jumps located, refined between, followed across yaw (issue 11) -----
+    M("jump_bracket_wide", "jump-aware tables", "lutmpi/table/jumps.py",
+      "TOL_M = 5e-6", "TOL_M = 5e-4", (T_JUMPS,),
+      "jumps bisected to a 0.5 mm bracket instead of 5 µm"),
+    M("sudden_ignored", "jump-aware tables", "lutmpi/table/jumps.py",
+      "    return bool(np.any(np.isfinite(m) & (m > CONFIRM_M) & (m > RATE_RATIO * slower)))",
+      "    return False", (T_JUMPS,),
+      "a cell whose contact point moves suddenly (< 2 mm) is not searched for a jump"),
+    M("refine_rr_loose", "jump-aware tables", "lutmpi/table/jumps.py",
+      "REFINE_TOL = {D.rolling_radius: 1e-6,", "REFINE_TOL = {D.rolling_radius: 1e-4,",
+      (T_JUMPS,), "refinement between jumps to 0.1 mm of rolling radius instead of 1 µm"),
+    M("pair_by_count", "jump-aware tables", "lutmpi/table/interp.py",
+      "    if (na == nb and np.array_equal(sa, sb) and np.array_equal(a_near, np.arange(na))\n"
+      "            and np.array_equal(b_near, np.arange(nb))):\n",
+      "    if na == nb and np.array_equal(sa, sb):\n", (T_JUMPS,),
+      "jumps of two yaw columns paired by index whenever they hold as many (the pre-2026-11-24 "
+      "pairing)"),
+    M("jump_curve_one_sided", "jump-aware tables", "lutmpi/table/interp.py",
+      "    if lo >= 0:\n        ma = 0.5 * (b - jy[j - 1, lo])",
+      "    if lo >= 0 and False:\n        ma = 0.5 * (b - jy[j - 1, lo])", (T_JUMPS,),
+      "jump curve between columns: the lower outer column's partner ignored"),
+    M("extend_unlimited", "jump-aware tables", "lutmpi/table/interp.py",
+      "EXTEND_STEPS = 0.1", "EXTEND_STEPS = 1e9", (T_JUMPS,),
+      "a column answers however far its piece must be extended to the query"),
+    M("pose_jumps", "jump-aware tables", "lutmpi/table/interp.py",
+      "KINKING = (D.z_g, D.roll)", "KINKING = ()", (T_JUMPS,),
+      "the wheelset's pose (z_g, roll) may be taken to jump"),
     # -- partitioning -----------------------------------------------------------------------------
     M("block_extra", "partitioning", "lutmpi/parallel/partition.py",
       "    start = rank * base + min(rank, extra)",

@@ -273,6 +273,40 @@ def test_a_jump_moving_several_steps_between_columns_is_still_followed():
     assert not (flags[~crossed] & ti.UNMATCHED).any() and (flags[crossed] & ti.UNMATCHED).any()
 
 
+def test_a_jump_curve_bending_with_yaw_is_followed_where_it_bends():
+    """A jump curve bends with yaw (evenly about yaw 0 on a symmetric pair): here y = 0.2 mm +
+    8 m/rad^2 yaw^2 on five columns 10 mrad apart, 0.2 mm off the straight line between two
+    columns at their middle. Between columns the jump lies on the cubic through the partners in
+    the four nearest columns (Catmull-Rom; one-sided second-order slopes in an edge cell), which
+    a quadratic curve it follows exactly: every query's distance to the jump is exact, and a
+    query between the straight line and the curve lands on the curve's side."""
+    y_axis = np.linspace(-4e-3, 4e-3, 17)
+    yaw_axis = np.linspace(-0.02, 0.02, 5)
+    at = lambda yaw: 0.2e-3 + 8.0 * yaw ** 2                       # noqa: E731 - m
+    branch = lambda y, upper: np.where(upper, 0.47 + y, 0.46 + 0.05 * y)  # noqa: E731
+    rr = branch(y_axis[:, None], y_axis[:, None] >= at(yaw_axis)[None, :])
+    pos = at(yaw_axis)[:, None]
+    lo, hi = pos - 2e-6, pos + 2e-6
+    jumps = {"jump_y": pos, "jump_y_lo": lo, "jump_y_hi": hi,
+             "jump_side": np.ones(pos.shape, np.int8)}
+    limits = {"rolling_radius": np.stack([branch(lo, False), branch(hi, True)], axis=2)}
+    ip = ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, limits,
+                  modes={"rolling_radius": "linear"})
+    rng = np.random.default_rng(8)
+    yaw = rng.uniform(-0.02, 0.02, 2000)
+    y = at(yaw) + rng.uniform(-0.3e-3, 0.3e-3, 2000)
+    got, _, _, _, _, dist = ip.evaluate(y, yaw)
+    assert np.abs(dist - (y - at(yaw))).max() < 1e-12
+    # the straight line between the two columns' positions
+    j = np.clip(np.searchsorted(yaw_axis, yaw) - 1, 0, 3)
+    w = (yaw - yaw_axis[j]) / (yaw_axis[j + 1] - yaw_axis[j])
+    chord = (1 - w) * at(yaw_axis[j]) + w * at(yaw_axis[j + 1])
+    between = (np.minimum(chord, at(yaw)) + 5e-6 < y) & (y < np.maximum(chord, at(yaw)) - 5e-6)
+    assert between.sum() > 200
+    far = np.abs(y - at(yaw)) > 5e-6
+    assert np.abs(got[far, 0] - branch(y, y >= at(yaw))[far]).max() < 1e-12
+
+
 def test_a_column_does_not_answer_far_beyond_its_piece_but_the_pose_still_interpolates():
     """The jump moves 1 mm (2 grid steps) per column and the upper branch kinks at y = 0.5 mm,
     between a query and the jump of the column that has not reached it yet: extending that
