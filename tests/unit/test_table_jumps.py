@@ -243,27 +243,38 @@ def test_jumps_of_neighbouring_columns_pair_by_position_and_wheel():
     assert a.tolist() == [0, 1] and b.tolist() == [0, 1, -1]
 
 
-def test_a_jump_moving_several_steps_between_columns_is_still_followed():
-    """A coarse yaw grid: the jump curve moves 1.5 mm (3 grid steps) from column to column, and
-    every query between the columns still lands on its exact branch (nothing blended)."""
+def _branch(y, upper):
+    """Rolling radius (m) of :func:`_one_jump_curve`'s table: flange branch above its jump."""
+    return np.where(upper, 0.47 + y, 0.46 + 0.05 * y)
+
+
+def _one_jump_curve(at, mode: str):
+    """A table over y +-4 mm (0.5 mm steps) x yaw +-0.02 rad (5 columns) whose rolling radius
+    jumps from :func:`_branch`'s tread to its flange at y = ``at(yaw)``; returns the yaw axis and
+    the interpolator (``mode`` for the rolling radius)."""
     y_axis = np.linspace(-4e-3, 4e-3, 17)
     yaw_axis = np.linspace(-0.02, 0.02, 5)
-    at = lambda yaw: 0.2e-3 + 0.15 * yaw                        # noqa: E731 - m
-    branch = lambda y, upper: np.where(upper, 0.47 + y, 0.46 + 0.05 * y)  # noqa: E731
-    rr = branch(y_axis[:, None], y_axis[:, None] >= at(yaw_axis)[None, :])
+    rr = _branch(y_axis[:, None], y_axis[:, None] >= at(yaw_axis)[None, :])
     pos = at(yaw_axis)[:, None]
     lo, hi = pos - 2e-6, pos + 2e-6
     jumps = {"jump_y": pos, "jump_y_lo": lo, "jump_y_hi": hi,
              "jump_side": np.ones(pos.shape, np.int8)}
-    limits = {"rolling_radius": np.stack([branch(lo, False), branch(hi, True)], axis=2)}
-    ip = ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, limits,
-                  modes={"rolling_radius": "pchip"})
+    limits = {"rolling_radius": np.stack([_branch(lo, False), _branch(hi, True)], axis=2)}
+    return yaw_axis, ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, limits,
+                              modes={"rolling_radius": mode})
+
+
+def test_a_jump_moving_several_steps_between_columns_is_still_followed():
+    """A coarse yaw grid: the jump curve moves 1.5 mm (3 grid steps) from column to column, and
+    every query between the columns still lands on its exact branch (nothing blended)."""
+    at = lambda yaw: 0.2e-3 + 0.15 * yaw                        # noqa: E731 - m
+    yaw_axis, ip = _one_jump_curve(at, "pchip")
     rng = np.random.default_rng(5)
     yaw = rng.uniform(-0.02, 0.02, 1000)
     y = at(yaw) + rng.uniform(-0.75e-3, 0.75e-3, 1000)
     far = np.abs(y - at(yaw)) > 5e-6
     got, _, _, flags, _, _ = ip.evaluate(y[far], yaw[far])
-    assert np.abs(got[:, 0] - branch(y, y >= at(yaw))[far]).max() < 1e-12
+    assert np.abs(got[:, 0] - _branch(y, y >= at(yaw))[far]).max() < 1e-12
     # a pose is flagged (one column answering) only where a column's own jump lies between it
     # and the jump curve at its yaw
     j = np.clip(np.searchsorted(yaw_axis, yaw[far]) - 1, 0, 3)
@@ -280,18 +291,8 @@ def test_a_jump_curve_bending_with_yaw_is_followed_where_it_bends():
     the four nearest columns (Catmull-Rom; one-sided second-order slopes in an edge cell), which
     a quadratic curve it follows exactly: every query's distance to the jump is exact, and a
     query between the straight line and the curve lands on the curve's side."""
-    y_axis = np.linspace(-4e-3, 4e-3, 17)
-    yaw_axis = np.linspace(-0.02, 0.02, 5)
     at = lambda yaw: 0.2e-3 + 8.0 * yaw ** 2                       # noqa: E731 - m
-    branch = lambda y, upper: np.where(upper, 0.47 + y, 0.46 + 0.05 * y)  # noqa: E731
-    rr = branch(y_axis[:, None], y_axis[:, None] >= at(yaw_axis)[None, :])
-    pos = at(yaw_axis)[:, None]
-    lo, hi = pos - 2e-6, pos + 2e-6
-    jumps = {"jump_y": pos, "jump_y_lo": lo, "jump_y_hi": hi,
-             "jump_side": np.ones(pos.shape, np.int8)}
-    limits = {"rolling_radius": np.stack([branch(lo, False), branch(hi, True)], axis=2)}
-    ip = ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, limits,
-                  modes={"rolling_radius": "linear"})
+    yaw_axis, ip = _one_jump_curve(at, "linear")
     rng = np.random.default_rng(8)
     yaw = rng.uniform(-0.02, 0.02, 2000)
     y = at(yaw) + rng.uniform(-0.3e-3, 0.3e-3, 2000)
@@ -304,7 +305,7 @@ def test_a_jump_curve_bending_with_yaw_is_followed_where_it_bends():
     between = (np.minimum(chord, at(yaw)) + 5e-6 < y) & (y < np.maximum(chord, at(yaw)) - 5e-6)
     assert between.sum() > 200
     far = np.abs(y - at(yaw)) > 5e-6
-    assert np.abs(got[far, 0] - branch(y, y >= at(yaw))[far]).max() < 1e-12
+    assert np.abs(got[far, 0] - _branch(y, y >= at(yaw))[far]).max() < 1e-12
 
 
 def test_a_column_does_not_answer_far_beyond_its_piece_but_the_pose_still_interpolates():
