@@ -57,6 +57,7 @@ T_SCHEMA = "tests/unit/test_table_schema.py"
 T_INTERP = "tests/unit/test_interp_nearest.py"
 T_NEWTON = "tests/unit/test_pose_newton.py"
 T_JUMPS = "tests/unit/test_table_jumps.py"
+T_ROOTS = "tests/unit/test_rigid_roots.py"
 T_BATCH = ("tests/integration/test_real_solver_parity.py::"
            "test_static_split_with_multi_point_batches_equals_serial")
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
@@ -222,6 +223,18 @@ MUTATIONS: tuple[Mutation, ...] = (
       "    near_first = t < 0.5",
       "    near_first = t < 0.9", (T_API, T_INTERP),
       "nearest knot of integer data rounds at 0.9"),
+    # -- the rigid all-roots search (issue 10) -----------------------------------------------
+    M("root_highest", "rigid roots", "lutmpi/contact/locus.py",
+      "    return min(stable or roots, key=lambda r: r.z_g)",
+      "    return max(stable or roots, key=lambda r: r.z_g)", (T_ROOTS,),
+      "of several rigid roots, the stable one of highest z_g is kept"),
+    M("root_stability_flipped", "rigid roots", "lutmpi/contact/locus.py",
+      "    stable = [r for r in roots if r.stable]",
+      "    stable = [r for r in roots if not r.stable]", (T_ROOTS,),
+      "the unstable rigid root chosen where there is one (issue 10's wrong root)"),
+    M("profile_end_converged", "rigid roots", "lutmpi/pose/solve.py",
+      "    if rigid.success and rigid.at_end:", "    if rigid.success and False:", (T_ROOTS,),
+      "a contact on the end of a profile's data stored as converged"),
     # -- jump-aware tables: jumps located, refined between, followed across yaw (issue 11) -----
     M("jump_bracket_wide", "jump-aware tables", "lutmpi/table/jumps.py",
       "TOL_M = 5e-6", "TOL_M = 5e-4", (T_JUMPS,),
