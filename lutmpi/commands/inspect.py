@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from lutmpi.table.schema import D
+from lutmpi.table.schema import D, J
 
 
 def register(subparsers: Any) -> None:
@@ -26,7 +26,7 @@ def describe(table: Any, show_config: bool = False) -> str:
              f"schema     {a.get('schema_version')}   complete {bool(a.get('complete'))}",
              f"lutmpi     {a.get('lutmpi_version')}   git {a.get('git_commit') or 'unknown'}",
              f"created    {a.get('created_utc')}   ranks {a.get('ranks')}   "
-             f"wall {float(a.get('wall_time_s', float('nan'))):.2f} s",
+             f"grid wall {float(a.get('wall_time_s', float('nan'))):.2f} s",
              f"grid       y   {table.y.size:4d} points  {table.y[0] * 1e3:+.3f} .. "
              f"{table.y[-1] * 1e3:+.3f} mm",
              f"           yaw {table.yaw.size:4d} points  {table.yaw[0]:+.4f} .. "
@@ -40,6 +40,7 @@ def describe(table: Any, show_config: bool = False) -> str:
         if ct is not None:
             lines.append(f"  compute time per point: mean {np.nanmean(ct) * 1e3:.1f} ms, "
                          f"max {np.nanmax(ct) * 1e3:.1f} ms, total {np.nansum(ct):.1f} s")
+        lines += _jump_lines(table, method)
         lines.append(f"  {'quantity':24s} {'shape':>16s} {'units':>6s} {'min':>12s} "
                      f"{'max':>12s} {'NaN %':>6s}")
         for name in table.quantities:
@@ -48,6 +49,23 @@ def describe(table: Any, show_config: bool = False) -> str:
     if show_config:
         lines += ["", "# stored configuration", table.config_toml]
     return "\n".join(lines)
+
+
+def _jump_lines(table: Any, method: str) -> list[str]:
+    """The jump step's summary of one method (issue 11): jumps located, per yaw column at most,
+    extra knots, the refinement's scale and the step's wall time; none stored: say so."""
+    stored = table.jumps.get(method)
+    if stored is None:
+        return ["  jumps: none stored (a table built before jumps were located, or an empty "
+                "grid)"]
+    jy = np.asarray(stored["arrays"][J.jump_y], float)
+    knots = stored["arrays"].get(J.knot_y)
+    n_knots = 0 if knots is None else int(np.isfinite(np.asarray(knots, float)).sum())
+    per = np.isfinite(jy).sum(axis=1) if jy.size else np.zeros(1, int)
+    at = stored["attrs"]
+    return [f"  jumps: {int(per.sum())} located (per yaw column at most {int(per.max())}), "
+            f"{n_knots} extra knots, refine_scale {float(at.get('refine_scale', 1.0)):g}, "
+            f"jump step wall {float(at.get('wall_time_s', float('nan'))):.2f} s"]
 
 
 def _row(name: str, arr: np.ndarray, units: str) -> str:

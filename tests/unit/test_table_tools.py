@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from lutmpi.cli import main
 from lutmpi.config.load import load_config
 from lutmpi.parallel.runner import build_table
+from lutmpi.table import Table
+from lutmpi.table.schema import J
 from tests.support import faulty_solver
 from tests.support.tables import write_config
 
@@ -27,6 +30,15 @@ def test_inspect_shows_metadata_status_ranges_and_units(table_path, capsys):
     assert "[max_distance]  status: converged 14, max_iterations 1" in text
     assert "wheel_point" in text and "(5, 3, 2, 2, 3)" in text
     assert "# stored configuration" in text and "[grid]" in text
+    # the root wall time is the grid's; each method's jump step is summarised with its own
+    assert "grid wall " in text
+    table = Table.open(table_path)
+    for m in ("load_centre", "max_distance"):
+        jy, knots = table.jumps[m]["arrays"][J.jump_y], table.jumps[m]["arrays"][J.knot_y]
+        per = np.isfinite(jy).sum(axis=1)
+        line = next(ln for ln in text[text.index(f"[{m}]"):].splitlines() if "jumps:" in ln)
+        assert line.strip().startswith(f"jumps: {per.sum()} located (per yaw column at most "
+                                       f"{per.max()}), {np.isfinite(knots).sum()} extra knots,")
 
 
 def test_inspect_of_a_missing_table_is_a_clean_error(tmp_path, capsys):
