@@ -37,9 +37,12 @@ def describe(table: Any, show_config: bool = False) -> str:
             f"{k} {v}" for k, v in table.status_counts(method).items()))
         ct = table.get(D.compute_time, method, raw=True) if D.compute_time in table.quantities \
             else None
-        if ct is not None:
+        stored = table.jumps.get(method)
+        if ct is not None:   # the run's own clock, on one line: the grid's points, the jump step
+            step = "" if stored is None else (
+                f"; jump step wall {float(stored['attrs'].get('wall_time_s', np.nan)):.2f} s")
             lines.append(f"  compute time per point: mean {np.nanmean(ct) * 1e3:.1f} ms, "
-                         f"max {np.nanmax(ct) * 1e3:.1f} ms, total {np.nansum(ct):.1f} s")
+                         f"max {np.nanmax(ct) * 1e3:.1f} ms, total {np.nansum(ct):.1f} s{step}")
         lines += _jump_lines(table, method)
         lines.append(f"  {'quantity':24s} {'shape':>16s} {'units':>6s} {'min':>12s} "
                      f"{'max':>12s} {'NaN %':>6s}")
@@ -53,7 +56,8 @@ def describe(table: Any, show_config: bool = False) -> str:
 
 def _jump_lines(table: Any, method: str) -> list[str]:
     """The jump step's summary of one method (issue 11): jumps located, per yaw column at most,
-    extra knots, the refinement's scale and the step's wall time; none stored: say so."""
+    extra knots and the refinement's scale (its wall time is on the compute-time line); none
+    stored: say so."""
     stored = table.jumps.get(method)
     if stored is None:
         return ["  jumps: none stored (a table built before jumps were located, or an empty "
@@ -64,8 +68,7 @@ def _jump_lines(table: Any, method: str) -> list[str]:
     per = np.isfinite(jy).sum(axis=1) if jy.size else np.zeros(1, int)
     at = stored["attrs"]
     return [f"  jumps: {int(per.sum())} located (per yaw column at most {int(per.max())}), "
-            f"{n_knots} extra knots, refine_scale {float(at.get('refine_scale', 1.0)):g}, "
-            f"jump step wall {float(at.get('wall_time_s', float('nan'))):.2f} s"]
+            f"{n_knots} extra knots, refine_scale {float(at.get('refine_scale', 1.0)):g}"]
 
 
 def _row(name: str, arr: np.ndarray, units: str) -> str:
