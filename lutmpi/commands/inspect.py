@@ -43,7 +43,7 @@ def describe(table: Any, show_config: bool = False) -> str:
                 f"; jump step wall {float(stored['attrs'].get('wall_time_s', np.nan)):.2f} s")
             lines.append(f"  compute time per point: mean {np.nanmean(ct) * 1e3:.1f} ms, "
                          f"max {np.nanmax(ct) * 1e3:.1f} ms, total {np.nansum(ct):.1f} s{step}")
-        lines += _jump_lines(table, method)
+        lines += _jump_lines(stored)
         lines.append(f"  {'quantity':24s} {'shape':>16s} {'units':>6s} {'min':>12s} "
                      f"{'max':>12s} {'NaN %':>6s}")
         for name in table.quantities:
@@ -54,11 +54,10 @@ def describe(table: Any, show_config: bool = False) -> str:
     return "\n".join(lines)
 
 
-def _jump_lines(table: Any, method: str) -> list[str]:
-    """The jump step's summary of one method (issue 11): jumps located, per yaw column at most,
-    extra knots and the refinement's scale (its wall time is on the compute-time line); none
-    stored: say so."""
-    stored = table.jumps.get(method)
+def _jump_lines(stored: dict[str, Any] | None) -> list[str]:
+    """The jump step's summary of one method (issue 11) from its stored jumps group
+    (:attr:`lutmpi.table.Table.jumps`): jumps located, per yaw column at most, extra knots and
+    the refinement's scale (its wall time is on the compute-time line); none stored: say so."""
     if stored is None:
         return ["  jumps: none stored (a table built before jumps were located, or an empty "
                 "grid)"]

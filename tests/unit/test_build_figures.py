@@ -5,6 +5,7 @@ loaded) is neither a point's busy time nor overhead, and the grid loop's time ou
 from __future__ import annotations
 
 import logging
+import re
 import time
 
 import pytest
@@ -113,8 +114,6 @@ def test_jump_step_reports_its_own_solves_and_busy_time(tmp_path, caplog):
     """The jump step after the grid is most of a real build (BENCHMARKS.md): the log gives its
     wall time, its pose solves and their summed time per rank, as the grid's figures are given,
     so that its parallel efficiency can be read."""
-    import re
-
     cfg = load_config(write_config(tmp_path, ny=9, nyaw=3))
     calls = []
 
