@@ -329,6 +329,13 @@ class Equilibrium:
                 # node entering a volume of n nodes moves its force by ~1/n)
                 ok = self._small(dq, 4.0 * self.noise_tol(kc)) and all(cs.values())
                 return q, ok, R, cs
+            if (lam < 1.0 and self._small(dq, 4.0 * self.noise_tol(kc))
+                    and self._small(lam * dq, 0.2 * self.noise_tol(kc)) and all(csn.values())):
+                # a step the no-descent rule above would accept, shortened by the line search
+                # to a move below the pose's resolution: the residual jumps here (a contact
+                # volume comes and goes as nodes cross), and Newton would only creep on in
+                # steps as small; the lower-residual pose is the equilibrium
+                return qn, True, Rn, csn
             q, R, J, cs = qn, Rn, Jn, csn
         return q, False, R, cs
 

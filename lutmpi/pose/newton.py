@@ -196,6 +196,10 @@ def newton(q, kc, max_iter, ctx, state, nit, max_evals, deadline):
             counts = state[4]
             ok = _small(dq, 4.0 * noise, lever) and counts[cur, 0] > 0 and counts[cur, 1] > 0
             return ok, 0, nit, cur, last
+        counts = state[4]
+        if (lam < 1.0 and _small(dq, 4.0 * noise, lever) and _small(lam * dq, 0.2 * noise, lever)
+                and counts[trial, 0] > 0 and counts[trial, 1] > 0):
+            return True, 0, nit, trial, last   # a shortened step below the resolution
         q, J, cur = qn, Jn, trial
     return False, 0, nit, cur, last
 

@@ -157,3 +157,40 @@ def test_solve_balances_eq1_and_extrapolates_to_the_rigid_pose(extrapolate, fmin
         assert abs(res.q[0] - Q_RIGID[0]) > 1e-7
     else:
         assert res.q_extrapolated is None
+
+
+def _evaluate_with_a_joining_volume(threshold: float):
+    """:func:`_evaluate` with a second volume on the flange once its indentation exceeds
+    ``threshold`` (m): as on a mesh, where a further group of nodes enters V_int at once, the
+    force steps up by a finite amount (here 30 % of the flange contact's)."""
+    def evaluate(q: np.ndarray) -> dict[str, list[ContactForce]]:
+        out = _evaluate(q)
+        c = _indentations(q)["left"]
+        if c > threshold:
+            out["left"].append(ContactForce(point=_points(q)["left"] + np.array([0.01, 0, 0]),
+                                            normal=_normal("left"), indentation=0.3 * c,
+                                            factor=CHI))
+        return out
+    return evaluate
+
+
+@pytest.mark.parametrize("threshold", [4.0e-6, 4.1e-6, 4.15e-6, 5.0e-6, 5.05e-6])
+def test_a_residual_that_jumps_next_to_the_root_is_not_crept_up_on(threshold):
+    """The flange contact alone balances the load at an indentation of 5.11 um, with the
+    joining volume at 3.94 um: for a threshold between the two, eq. (1) has no root, only a
+    jump of the residual across zero at the threshold, which is the pose a mesh resolves.
+    Newton's line search there finds descent only in steps shortened far below the pose's
+    resolution (0.05 C_amm = 0.5 um); a solver that takes them creeps on for up to 30
+    evaluations, one that accepts the lower-residual pose once the shortened step is below a
+    fifth of the resolution stops after at most 19. Either way the pose must sit on the jump:
+    the flange indentation within 20 nm of the threshold (the resolution times n_z = 0.54
+    is 0.27 um), both wheels loaded."""
+    opts = EquilibriumOptions(k_el=K_EL, k_rot=K_EL, load=W, allowed_indentation=1e-5,
+                              extrapolate=False)
+    eq = Equilibrium(_evaluate_with_a_joining_volume(threshold), Y, YAW, Q_RIGID, opts,
+                     fmin=CHI, nz_min=np.cos(ANGLE["left"]))
+    res = eq.solve()
+    assert res.success, res.message
+    assert res.contacts["left"] and res.contacts["right"]
+    assert abs(_indentations(res.q)["left"] - threshold) <= 2e-8
+    assert res.nit <= 20, f"{res.nit} contact evaluations"
