@@ -390,9 +390,20 @@ class Equilibrium:
                 memo[roll] = z_of(roll)
             return memo[roll][1][0][1]
 
+        # the roll is searched as the pose's mirror image would search it: for y < 0 in the
+        # mirrored roll r' = -roll (its residual -R_roll(-r'), decreasing as well), so that a
+        # pose and its mirror (-y, -yaw) of a symmetric wheelset step through the same
+        # brackets and land on the same one of the near-equal equilibria that a jumping mesh
+        # residual can hold (Brent's method starts from one end of its bracket)
+        sgn = -1.0 if self.y < 0.0 else 1.0
+
+        def fmirror(r: float) -> float:
+            return sgn * froll(sgn * r)
+
         span_r = span / self.lever
-        lo, hi = _expand(froll, q[1] - span_r, q[1] + span_r)
-        roll = brentq(froll, lo, hi, xtol=xtol / self.lever, rtol=4 * np.finfo(float).eps)
+        lo, hi = _expand(fmirror, sgn * q[1] - span_r, sgn * q[1] + span_r)
+        roll = sgn * brentq(fmirror, lo, hi, xtol=xtol / self.lever,
+                            rtol=4 * np.finfo(float).eps)
         froll(roll)
         return np.array([memo[roll][0], roll]), memo[roll][1]
 

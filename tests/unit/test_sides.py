@@ -51,6 +51,29 @@ def test_symmetric_input_given_per_side_is_mirror_symmetric():
             assert abs(ra - rb) < 1e-9
 
 
+
+@pytest.mark.parametrize("method, y_mm", [("load_centre", 5.0), ("max_distance", 8.75)])
+def test_a_pose_that_brackets_and_its_mirror_land_on_the_same_equilibrium(method, y_mm):
+    """A worn wheel on the Manchester rail, both sides the same, yaw 0: at these poses Newton
+    stalls on the mesh's jumping residual and the nested bracketing takes over (~100 contact
+    evaluations), whose roll search starts from one end of its bracket. Searched in the pose's
+    own roll, the mirror pose started from the other end and landed on another of the near-equal
+    equilibria: 8.9 um of z_g and 12 urad of roll apart (load centre), 0.9 um / 1.2 urad
+    (max distance). Searched in the mirrored roll for y < 0, both step through the same
+    brackets: the mirror image to the last bits of the solve (1e-12)."""
+    side_w = {"profile": "profiles/whl_left_iter288.whl"}
+    side_r = {"profile": "profiles/MBench_UIC60_v3.ban", "inclination": "none"}
+    scene = Scene.from_config(_cfg({"wheel": side_w, "rail": side_r,
+                                    "track": {"gauge_mm": 1435.0, "gauge_depth_mm": 14.0}}))
+    a = solve_pose(scene, y_mm * MM, 0.0, method)
+    b = solve_pose(scene, -y_mm * MM, 0.0, method)
+    assert a.status == b.status == 0
+    assert min(a.nit, b.nit) > 40, "no longer a pose that brackets: pick another"
+    assert abs(a.z_g - b.z_g) < 1e-12 and abs(a.roll + b.roll) < 1e-12
+    ra = a.contacts["left"][0].rolling_radius
+    rb = b.contacts["right"][0].rolling_radius
+    assert abs(ra - rb) < 1e-12
+
 def test_asymmetric_radii_give_a_rolling_radius_difference_at_zero():
     # S1002 on both sides, right wheel 1 mm smaller in radius (as EN 15302's E5-E8: 920 / 918 mm
     # diameters): at y = 0 the axle leans to the right (positive roll raises the left wheel),
