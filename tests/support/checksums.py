@@ -46,7 +46,11 @@ search shortened below a fifth of the pose's resolution (2026-11-24, issue 14: o
 centre moved, in 74 paper and 108 Manchester poses, all with fewer contact evaluations (5 742 ->
 5 094 and 7 002 -> 5 872 over the grids); z_g by at most 38 nm / 0.15 um, the contact angle by
 5e-8 / 5e-4 rad, and in 16 Manchester poses the rolling radius by up to 7.5 um, where the
-centroid's nodes changed; every status the same).
+centroid's nodes changed; every status the same); re-derived when the nested bracketing came
+to search the roll of a pose with y < 0 as its mirror pose searches it (2026-11-24: only the
+load centre moved, in 2 paper and 2 Manchester poses that bracket, by up to 0.42 um / 6.9 nm of
+z_g; both full grids are now mirror-symmetric to 4e-15 in z_g and roll for every method, where 2
+pose pairs of each differed by up to 0.57 um / 8.9 nm).
 """
 
 from __future__ import annotations
