@@ -365,7 +365,7 @@ class LocusSolver:
                                  "no rigid two-wheel contact over the admissible roll range "
                                  f"|roll| <= {self.roll_max:.3g} rad (a wheel misses its rail)",
                                  nit)
-        chosen = _choose(roots)
+        chosen = _choose(roots, -1.0 if y < 0.0 or (y == 0.0 and yaw < 0.0) else 1.0)
         if local is not None and _same(local, chosen.roll, self.scan_rolls):
             roll = local
         else:
@@ -537,11 +537,22 @@ def _extremum_by(hfun, lo: float, hi: float, sgn: float, n: int) -> tuple[float,
     return float(res.x), float(res.fun)
 
 
-def _choose(roots: list[RigidRoot]) -> RigidRoot:
+#: two roots whose heights differ by less than this (m) are equally low: a symmetric wheelset
+#: at y = 0 has mirror-image roots (roll r and -r) whose heights differ only by rounding
+TIE_M = 1e-12
+
+
+def _choose(roots: list[RigidRoot], sgn: float = 1.0) -> RigidRoot:
     """The stable root of lowest z_g (minimum potential energy); with no stable root, the
-    lowest root. A chosen root with a contact on a profile's end keeps ``at_end``."""
-    stable = [r for r in roots if r.stable]
-    return min(stable or roots, key=lambda r: r.z_g)
+    lowest root. A chosen root with a contact on a profile's end keeps ``at_end``.
+
+    Among roots within :data:`TIE_M` of the lowest, the one of largest ``sgn * roll``:
+    ``sgn = -1`` for a pose that is the mirror image of one with ``sgn = 1`` (y < 0, or y = 0
+    and yaw < 0), so a symmetric wheelset's pose and its mirror choose mirror-image roots
+    (a worn, hollow wheel at y = 0 and a large yaw has two equally low ones)."""
+    pool = [r for r in roots if r.stable] or roots
+    low = min(r.z_g for r in pool)
+    return max((r for r in pool if r.z_g <= low + TIE_M), key=lambda r: sgn * r.roll)
 
 
 def _same(a: float, b: float, grid: np.ndarray) -> bool:

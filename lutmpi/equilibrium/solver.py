@@ -394,8 +394,9 @@ class Equilibrium:
         # mirrored roll r' = -roll (its residual -R_roll(-r'), decreasing as well), so that a
         # pose and its mirror (-y, -yaw) of a symmetric wheelset step through the same
         # brackets and land on the same one of the near-equal equilibria that a jumping mesh
-        # residual can hold (Brent's method starts from one end of its bracket)
-        sgn = -1.0 if self.y < 0.0 else 1.0
+        # residual can hold (Brent's method starts from one end of its bracket); at y = 0 the
+        # yaw's sign decides, and the centred pose (0, 0) is its own mirror
+        sgn = -1.0 if self.y < 0.0 or (self.y == 0.0 and self.yaw < 0.0) else 1.0
 
         def fmirror(r: float) -> float:
             return sgn * froll(sgn * r)

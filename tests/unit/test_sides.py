@@ -74,6 +74,25 @@ def test_a_pose_that_brackets_and_its_mirror_land_on_the_same_equilibrium(method
     rb = b.contacts["right"][0].rolling_radius
     assert abs(ra - rb) < 1e-12
 
+
+@pytest.mark.parametrize("method", ["reference", "load_centre"])
+def test_equally_low_mirror_roots_at_the_centre_are_chosen_as_mirror_images(method):
+    """A worn, hollow wheel on the Manchester rail, both sides the same, y = 0, yaw +-0.08 rad:
+    the rigid contact has two equally low stable roots, roll +-6.1 mrad (a centred pose with a
+    roll: the mirror of one root is the other), whose heights differ only by rounding. Taking
+    the lower one picked the same sign at yaw 0.08 and -0.08, 12 mrad off the mirror image; the
+    tie is now broken in the mirrored roll (y < 0, or y = 0 and yaw < 0), as the bracketing's
+    search is."""
+    side_w = {"profile": "profiles/whl_left_iter288.whl"}
+    side_r = {"profile": "profiles/MBench_UIC60_v3.prr", "inclination": "none"}
+    scene = Scene.from_config(_cfg({"wheel": side_w, "rail": side_r,
+                                    "track": {"gauge_mm": 1435.0, "gauge_depth_mm": 14.0}}))
+    a = solve_pose(scene, 0.0, 0.08, method)
+    b = solve_pose(scene, 0.0, -0.08, method)
+    assert a.status == b.status == 0
+    assert abs(a.roll) > 1e-3, "no longer a centred pose with a roll: pick another"
+    assert abs(a.z_g - b.z_g) < 1e-12 and abs(a.roll + b.roll) < 1e-12
+
 def test_asymmetric_radii_give_a_rolling_radius_difference_at_zero():
     # S1002 on both sides, right wheel 1 mm smaller in radius (as EN 15302's E5-E8: 920 / 918 mm
     # diameters): at y = 0 the axle leans to the right (positive roll raises the left wheel),
