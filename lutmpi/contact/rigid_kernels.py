@@ -20,6 +20,11 @@ from numba import njit
 from lutmpi.profiles.spline import ppoly_at
 
 SCAN_BAND = 5e-3  # m, coarse gap minima this close to the smallest are refined on all samples
+#: a locus gap minimum whose neighbouring samples lie more than this above it (or off the rail)
+#: is resampled between them (:func:`resampled_min`), m
+DIP_M = 1e-6
+#: sub-intervals per sample interval of that resampling
+DIP_SUB = 10
 
 
 # -- compiled gap loops -------------------------------------------------------------------------
@@ -59,7 +64,85 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
         gap[q] = g
         if g < best:
             best, ib = g, q
+    if ib >= 0:
+        g2 = resampled_min(idx[ib], gap[ib], sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
+        if not np.isnan(g2):
+            return -g2, ib
     return touch_height(gap, ib, idx.size)
+
+
+@njit(cache=True)
+def _locus_gap(sgn, s, r, dr, d, R, y, amp, sb, cb, bs, u0, du, tabz, u_min, u_max):
+    """The vertical gap (G at height 0) of the locus point of one wheel circle (profile
+    coordinate ``s``, radius ``r``, slope ``dr``), as :func:`run_gaps` computes it; +inf off the
+    rail."""
+    x = min(max(bs * dr / amp, -1.0), 1.0)
+    cx = np.sqrt(1.0 - x * x)
+    bx = r * (sb * cx + cb * x)
+    by = sgn * (d + s)
+    bz = -r * (cb * cx - sb * x)
+    u = sgn * (R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz + y)
+    if not (u >= u_min and u <= u_max):
+        return np.inf
+    pz = R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz
+    nt = tabz.size
+    f = (u - u0) / du
+    j = min(max(int(f), 0), nt - 2)
+    t = f - j
+    return pz - (tabz[j] + t * (tabz[j + 1] - tabz[j]))
+
+
+@njit(cache=True)
+def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
+    """The smallest gap of one wheel's locus next to its smallest sample ``k`` (gap ``gk``),
+    where the samples do not resolve it; NaN where they do.
+
+    A yawed flange on a steep gauge face sweeps the rail fast along the locus (its lateral
+    position moves ~3.6 mm per mm of profile, the locus angle ~0.1 rad ahead of the axle): the
+    gap then dips between two 0.1 mm samples, and the parabola through three samples missed the
+    dip by up to 0.15 mm on measured worn pairs at yaw 0.05-0.1 rad (a wheel penetrating its rail
+    at a "converged" rigid root, and the mirror pose choosing another root). Where a neighbour
+    of ``k`` lies more than :data:`DIP_M` above ``gk`` or off the rail, the locus between the
+    neighbours is resampled :data:`DIP_SUB` times per interval (radius and slope by cubic
+    Hermite interpolation of the samples' own values and slopes) and the parabola is taken
+    through the smallest of those and its neighbours. A well-resolved minimum (the tread, any
+    contact where the neighbours lie within ``DIP_M``) is left to :func:`touch_height`."""
+    n = s.size
+    if k <= 0 or k >= n - 1:
+        return np.nan
+    a, b, c = R[0, 0], R[0, 1], R[0, 2]
+    amp = np.sqrt(a * a + c * c)
+    sb, cb = c / amp, a / amp
+    bs = b * sgn
+    gm = _locus_gap(sgn, s[k - 1], r[k - 1], dr[k - 1], d, R, y, amp, sb, cb, bs, u0, du,
+                    tabz, u_min, u_max)
+    gp = _locus_gap(sgn, s[k + 1], r[k + 1], dr[k + 1], d, R, y, amp, sb, cb, bs, u0, du,
+                    tabz, u_min, u_max)
+    if gm - gk <= DIP_M and gp - gk <= DIP_M:
+        return np.nan
+    m = DIP_SUB
+    vals = np.empty(2 * m + 1)
+    vals[0], vals[m], vals[2 * m] = gm, gk, gp
+    for half in range(2):
+        i0 = k - 1 + half
+        s0, s1 = s[i0], s[i0 + 1]
+        h = s1 - s0
+        r0, r1, d0, d1 = r[i0], r[i0 + 1], dr[i0], dr[i0 + 1]
+        for q in range(1, m):
+            t = q / m
+            t2 = t * t
+            t3 = t2 * t
+            rq = ((2 * t3 - 3 * t2 + 1) * r0 + (t3 - 2 * t2 + t) * h * d0
+                  + (-2 * t3 + 3 * t2) * r1 + (t3 - t2) * h * d1)
+            dq = ((6 * t2 - 6 * t) * (r0 - r1) / h + (3 * t2 - 4 * t + 1) * d0
+                  + (3 * t2 - 2 * t) * d1)
+            vals[half * m + q] = _locus_gap(sgn, s0 + t * h, rq, dq, d, R, y, amp, sb, cb, bs,
+                                            u0, du, tabz, u_min, u_max)
+    ib = 0
+    for q in range(1, 2 * m + 1):
+        if vals[q] < vals[ib]:
+            ib = q
+    return -touch_height(vals, ib, 2 * m + 1)[0]
 
 
 @njit(cache=True)
@@ -81,7 +164,7 @@ def touch_height(gap, ib, n):
 
 
 @njit(cache=True)
-def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ):
+def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ, resample):
     """:func:`side_gaps` of the roll scan on contiguous samples ``s, r, dr`` (all of them), with
     ``sin`` and ``cos`` of the locus angle ``beta + arcsin(x)`` by the angle-sum identity (one
     square root instead of three transcendental functions; equal to rounding). The points come
@@ -114,6 +197,10 @@ def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ):
         gap[q] = g
         if g < best:
             best, ib = g, q
+    if resample and ib >= 0:   # all samples (not the scan's coarse ones): as side_gaps
+        g2 = resampled_min(ib, gap[ib], sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
+        if not np.isnan(g2):
+            return -g2, ib
     return touch_height(gap, ib, n)
 
 
@@ -199,7 +286,7 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
     measured profiles); -inf when no point is over the rail."""
     idx, s, r, dr, d, tab, lim, s_c, r_c, dr_c = side
     h, ib = run_gaps(sgn, s_c, r_c, dr_c, d, R, y, lim[0], lim[1], tab, lim[2], lim[3], gap, U,
-                     PZ)
+                     PZ, False)
     if ib < 0:
         return h
     step = idx[1] - idx[0] if idx.size > 1 else 1
@@ -215,7 +302,7 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
                 continue  # not a coarse local minimum near the smallest
         lo, hi = max(idx[q] - step, 0), min(idx[q] + step + 1, s.size)
         h2, _ = run_gaps(sgn, s[lo:hi], r[lo:hi], dr[lo:hi], d, R, y, lim[0], lim[1], tab,
-                         lim[2], lim[3], fine, U, PZ)
+                         lim[2], lim[3], fine, U, PZ, True)
         h = max(h, h2)
     return h
 

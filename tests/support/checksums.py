@@ -50,7 +50,14 @@ centroid's nodes changed; every status the same); re-derived when the nested bra
 to search the roll of a pose with y < 0 as its mirror pose searches it (2026-11-24: only the
 load centre moved, in 2 paper and 2 Manchester poses that bracket, by up to 0.42 um / 6.9 nm of
 z_g; both full grids are now mirror-symmetric to 4e-15 in z_g and roll for every method, where 2
-pose pairs of each differed by up to 0.57 um / 8.9 nm).
+pose pairs of each differed by up to 0.57 um / 8.9 nm); re-derived when a locus gap minimum
+that its neighbouring samples do not resolve (one more than 1 um above it) came to be resampled
+between them instead of taken from the parabola through three 0.1 mm samples (2026-11-24: a
+yawed worn flange on a steep gauge face dipped 0.15 mm between samples; every method moved, the
+reference in ~580 of each grid's 1369 poses by up to 1.7 um (paper) / 4.2 um (Manchester) of
+z_g, the flange wheel that hovered up to 0.99 um above its rail now touching it to 7 nm by a
+brute-force check over the wheel surface; the mesh methods through their rigid start and
+windows, the load centre by up to 2.4 um of z_g and 45 um of rolling radius in 24 poses).
 """
 
 from __future__ import annotations
