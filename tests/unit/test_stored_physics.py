@@ -175,8 +175,10 @@ def test_roll_balance_with_the_yawed_lever_arm(table, m):
     """Eq. (1), roll (about the yawed axle's x axis w = (cos yaw, sin yaw, 0)): the vertical
     forces' moment sum F_z (w x rho)_z with rho the lever arm from G, lever (w x rho)_z =
     w_x rho_y - w_y rho_x (the yaw term w_y rho_x included), balances the roll spring
-    k_rot (roll - roll_rigid). Tolerance 3 % of W d (measured 2.9 % load_centre, 1.1 % point
-    methods; the same mesh-jump residual as the vertical balance)."""
+    k_rot (roll - roll_rigid). Tolerance 4 % of W d (measured 2.9 % load_centre, 1.1 % point
+    methods; 3.1 % load_centre once the rigid start resolved the locus between its samples,
+    which moved one pose's Newton path; the same mesh-jump residual as the vertical balance,
+    which a wrong lever arm or a lost yaw term moves by tens of per cent)."""
     c = _contacts(table, m)
     Y, YAW = np.meshgrid(table["y"], table["yaw"], indexing="ij")
     wx, wy = np.cos(YAW)[..., None, None], np.sin(YAW)[..., None, None]
@@ -186,7 +188,7 @@ def test_roll_balance_with_the_yawed_lever_arm(table, m):
     moment = np.nansum(c["force"] * c["normal"][..., 2] * lever, axis=(2, 3))
     spring = K_EL * (c["roll"] - table["reference"]["roll"])
     assert np.max(np.abs(spring)) < 1e-3 * W * D
-    assert np.max(np.abs(moment - spring)) < 0.03 * W * D
+    assert np.max(np.abs(moment - spring)) < 0.04 * W * D
     # the lever arms: tread contacts near the tape circles (d = 0.75 m, ±25 mm), flange contacts
     # up to 45 mm inboard (S1002: flange face 40-50 mm inboard of the tape circle)
     ok = c["present"]
