@@ -454,13 +454,20 @@ class LocusSolver:
         out = RigidSolution(y, yaw, z_g, roll, True, "converged", nit)
         # held roll: one contact per wheel, the minimum of its own gap
         mc = 1 if self.hold_roll else self.max_contacts
+        R = rk.rotation(float(yaw), float(roll))
         for name, loc in loci.items():
-            loc.gap += z_g  # lifting G lifts every gap
-            out.loci[name] = loc
             sd = self.sides[name]
-            rows = rk.rigid_contacts(loc.gap, loc.s, sd.sign, sd.wheel.d, sd.wheel.r0,
+            s, r, dr, d, tab, lim = sd.local_args
+            # the minima the samples do not resolve, resampled (as the touching heights were)
+            gap, s_fix = rk.dip_minima(loc.gap, sd.sign, s, r, dr, d, R, float(y), lim[0],
+                                       lim[1], tab, lim[2], lim[3])
+            loc.gap += z_g  # lifting G lifts every gap
+            gap += z_g
+            out.loci[name] = loc
+            rows = rk.rigid_contacts(gap, loc.s, sd.sign, sd.wheel.d, sd.wheel.r0,
                                      sd.wheel.profile.ppolys, float(y), float(yaw),
-                                     float(roll), float(z_g), float(self.double_tol), int(mc))
+                                     float(roll), float(z_g), float(self.double_tol), int(mc),
+                                     s_fix)
             out.contacts[name] = [
                 RigidContact(side=sd.sign, s=float(r[0]), phi=float(r[1]), point=r[2:5],
                              u=float(r[5]), gap=float(r[6]), at_end=bool(r[7]))

@@ -25,6 +25,12 @@ SCAN_BAND = 5e-3  # m, coarse gap minima this close to the smallest are refined 
 DIP_M = 1e-6
 #: sub-intervals per sample interval of that resampling
 DIP_SUB = 10
+#: a discrete gap minimum other than the smallest is resampled too when its sample lies within
+#: this of the smallest (a dip between samples can undercut it: 0.13 mm on a measured worn flange
+#: tip at the end of a rail's data; a rail slope of tan 85 deg over the 0.4 mm that a yawed
+#: flange's locus sweeps per sample bounds it by ~4.6 mm), m
+DIP_BAND = SCAN_BAND
+_NO_IDX = np.empty(0, dtype=np.int64)  # "the samples themselves" (:func:`lowest_gap`)
 
 
 # -- compiled gap loops -------------------------------------------------------------------------
@@ -42,6 +48,7 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
     sb, cb = c / amp, a / amp  # sin(beta), cos(beta)
     nt = tabz.size
     best, ib = np.inf, -1
+    nmin, prev, down = 0, np.inf, False  # discrete minima so far (those of :func:`lowest_gap`)
     for q in range(idx.size):
         k = idx[q]
         x = b * sgn * dr[k] / amp
@@ -64,11 +71,12 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
         gap[q] = g
         if g < best:
             best, ib = g, q
-    if ib >= 0:
-        g2 = resampled_min(idx[ib], gap[ib], sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
-        if not np.isnan(g2):
-            return -g2, ib
-    return touch_height(gap, ib, idx.size)
+        if down and prev <= g:  # gap[q - 1] is a discrete minimum
+            nmin += 1
+        down, prev = g < prev, g
+    val, ib, _ = lowest_gap(gap, idx, idx.size, ib, nmin + down > 1, sgn, s, r, dr, d, R, y, u0,
+                            du, tabz, u_min, u_max)
+    return -val, ib
 
 
 @njit(cache=True)
@@ -94,11 +102,12 @@ def _locus_gap(sgn, s, r, dr, d, R, y, amp, sb, cb, bs, u0, du, tabz, u_min, u_m
 
 @njit(cache=True)
 def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
-    """The smallest gap of one wheel's locus next to its smallest sample ``k`` (gap ``gk``),
-    where the samples do not resolve it; NaN where they do.
+    """The smallest gap of one wheel's locus next to its sample ``k`` (gap ``gk``, a discrete
+    minimum), where the samples do not resolve it, and its profile coordinate (m); ``(NaN,
+    NaN)`` where they do.
 
     A yawed flange on a steep gauge face sweeps the rail fast along the locus (its lateral
-    position moves ~3.6 mm per mm of profile, the locus angle ~0.1 rad ahead of the axle): the
+    position moves ~3.6 mm per mm of profile, the locus angle ~0.17 rad ahead of the axle): the
     gap then dips between two 0.1 mm samples, and the parabola through three samples missed the
     dip by up to 0.15 mm on measured worn pairs at yaw 0.05-0.1 rad (a wheel penetrating its rail
     at a "converged" rigid root, and the mirror pose choosing another root). Where a neighbour
@@ -106,10 +115,11 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     neighbours is resampled :data:`DIP_SUB` times per interval (radius and slope by cubic
     Hermite interpolation of the samples' own values and slopes) and the parabola is taken
     through the smallest of those and its neighbours. A well-resolved minimum (the tread, any
-    contact where the neighbours lie within ``DIP_M``) is left to :func:`touch_height`."""
+    contact where the neighbours lie within ``DIP_M``) is left to :func:`touch_height`. The
+    coordinate is that of the smallest sub-sample plus the parabola's offset."""
     n = s.size
     if k <= 0 or k >= n - 1:
-        return np.nan
+        return np.nan, np.nan
     a, b, c = R[0, 0], R[0, 1], R[0, 2]
     amp = np.sqrt(a * a + c * c)
     sb, cb = c / amp, a / amp
@@ -119,7 +129,7 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     gp = _locus_gap(sgn, s[k + 1], r[k + 1], dr[k + 1], d, R, y, amp, sb, cb, bs, u0, du,
                     tabz, u_min, u_max)
     if gm - gk <= DIP_M and gp - gk <= DIP_M:
-        return np.nan
+        return np.nan, np.nan
     m = DIP_SUB
     vals = np.empty(2 * m + 1)
     vals[0], vals[m], vals[2 * m] = gm, gk, gp
@@ -142,16 +152,56 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     for q in range(1, 2 * m + 1):
         if vals[q] < vals[ib]:
             ib = q
-    return -touch_height(vals, ib, 2 * m + 1)[0]
+    val, t = parabola_min(vals, ib, 2 * m + 1)
+    # its profile coordinate: the sub-sample and the parabola's offset, in the sub-interval
+    # toward which the offset points
+    half = 0 if ib < m or (ib == m and t < 0.0) else 1
+    h = s[k + half] - s[k - 1 + half]
+    return val, s[k - 1 + half] + ((ib - half * m) + t) * h / m
 
 
-@njit(cache=True)
-def touch_height(gap, ib, n):
-    """The touching height from the gaps ``gap[:n]`` and the index ``ib`` of their smallest:
-    minus the minimum of the parabola through it and its neighbours (-inf when ``ib < 0``)."""
+@njit(cache=True, inline="always")
+def lowest_gap(gap, idx, n, ib, others, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
+    """The smallest gap of one wheel's locus from its sample gaps ``gap[:n]`` (of the samples
+    ``idx``, or of ``s[:n]`` itself when ``idx`` is empty) and the index ``ib`` of the smallest:
+    the parabola through it and its neighbours (:func:`touch_height`) or, where the samples do
+    not resolve it, :func:`resampled_min`; and :func:`resampled_min` of every other discrete
+    local minimum within :data:`DIP_BAND` of the smallest sample, which a dip between its
+    samples can take below it (a yawed worn flange tip on the end of a rail's data: 0.13 mm).
+    Returns ``(gap, index of the minimum it belongs to, its profile coordinate)``: ``+inf, -1,
+    NaN`` when no point is over the rail; the coordinate is NaN where the samples' parabola
+    gives the gap (the caller has it). ``others``: False when the smallest is the only discrete
+    minimum (a sample below its left neighbour and not above its right one, non-finite gaps
+    counting as +inf; the callers count them as they compute the gaps): none is looked for."""
     if ib < 0:
-        return -np.inf, -1
-    val = gap[ib]
+        return np.inf, -1, np.nan
+    best, sbest = resampled_min(idx[ib] if idx.size else ib, gap[ib], sgn, s, r, dr, d, R, y, u0,
+                                du, tabz, u_min, u_max)
+    if np.isnan(best):
+        best = parabola_min(gap, ib, n)[0]
+    q_best = ib
+    limit = gap[ib] + DIP_BAND
+    for q in range(n if others else 0):
+        g = gap[q]
+        if q == ib or not g <= limit:
+            continue
+        gl = gap[q - 1] if q > 0 and np.isfinite(gap[q - 1]) else np.inf
+        gr = gap[q + 1] if q < n - 1 and np.isfinite(gap[q + 1]) else np.inf
+        if not (g < gl and g <= gr):
+            continue
+        g2, s2 = resampled_min(idx[q] if idx.size else q, g, sgn, s, r, dr, d, R, y, u0, du,
+                               tabz, u_min, u_max)
+        if g2 < best:
+            best, sbest, q_best = g2, s2, q
+    return best, q_best, sbest
+
+
+@njit(cache=True, inline="always")
+def parabola_min(gap, ib, n):
+    """Minimum of the parabola through ``gap[ib]`` and its neighbours (``gap[ib]`` itself at an
+    end, next to a non-finite gap or where the parabola opens downward) and its offset from
+    ``ib`` in samples (within +-0.5)."""
+    val, t = gap[ib], 0.0
     if 0 < ib < n - 1:
         gm, gp = gap[ib - 1], gap[ib + 1]
         if np.isfinite(gm) and np.isfinite(gp):
@@ -160,7 +210,16 @@ def touch_height(gap, ib, n):
                 t = 0.5 * (gm - gp) / den
                 t = min(max(t, -0.5), 0.5)
                 val = val - 0.25 * (gm - gp) * t
-    return -val, ib
+    return val, t
+
+
+@njit(cache=True)
+def touch_height(gap, ib, n):
+    """The touching height from the gaps ``gap[:n]`` and the index ``ib`` of their smallest:
+    minus the minimum of the parabola through it and its neighbours (-inf when ``ib < 0``)."""
+    if ib < 0:
+        return -np.inf, -1
+    return -parabola_min(gap, ib, n)[0], ib
 
 
 @njit(cache=True)
@@ -186,6 +245,7 @@ def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ, res
         PZ[q] = r20 * bx + r21 * by + r22 * bz
     nt = tabz.size
     best, ib = np.inf, -1
+    nmin, prev, down = 0, np.inf, False  # discrete minima so far, as in side_gaps
     for q in range(n):
         u = U[q]
         g = np.inf
@@ -197,10 +257,13 @@ def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ, res
         gap[q] = g
         if g < best:
             best, ib = g, q
-    if resample and ib >= 0:   # all samples (not the scan's coarse ones): as side_gaps
-        g2 = resampled_min(ib, gap[ib], sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
-        if not np.isnan(g2):
-            return -g2, ib
+        if down and prev <= g:
+            nmin += 1
+        down, prev = g < prev, g
+    if resample:   # all samples (not the scan's coarse ones): as side_gaps
+        val, ib, _ = lowest_gap(gap, _NO_IDX, n, ib, nmin + down > 1, sgn, s, r, dr, d, R, y,
+                                u0, du, tabz, u_min, u_max)
+        return -val, ib
     return touch_height(gap, ib, n)
 
 
@@ -581,11 +644,44 @@ LOCAL_OK, LOCAL_NONE, LOCAL_NOCONV, LOCAL_NAN = 0, 1, 2, 3
 
 
 @njit(cache=True)
-def rigid_contacts(gap, s, sgn, d, r0, pp, y, yaw, roll, z_g, double_tol, max_contacts):
+def dip_minima(gap, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
+    """The whole locus's gaps ``gap`` (G at height 0) with every discrete minimum that
+    :func:`lowest_gap` resamples (the smallest and those within :data:`DIP_BAND` of it) set to
+    its resampled gap where the samples do not resolve it, and those minima's profile
+    coordinates (NaN elsewhere): what :func:`rigid_contacts` chooses and places the contacts
+    by. Returns ``(gaps, s_fix)``."""
+    n = gap.size
+    out, s_fix = gap.copy(), np.full(n, np.nan)
+    best, ib = np.inf, -1
+    for q in range(n):
+        if gap[q] < best:
+            best, ib = gap[q], q
+    if ib < 0:
+        return out, s_fix
+    limit = best + DIP_BAND
+    for q in range(n):
+        g = gap[q]
+        if not g <= limit:
+            continue
+        gl = gap[q - 1] if q > 0 and np.isfinite(gap[q - 1]) else np.inf
+        gr = gap[q + 1] if q < n - 1 and np.isfinite(gap[q + 1]) else np.inf
+        if q != ib and not (g < gl and g <= gr):
+            continue
+        g2, s2 = resampled_min(q, g, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
+        if not np.isnan(g2):
+            out[q], s_fix[q] = g2, s2
+    return out, s_fix
+
+
+@njit(cache=True)
+def rigid_contacts(gap, s, sgn, d, r0, pp, y, yaw, roll, z_g, double_tol, max_contacts,
+                   s_fix):
     """The rigid contacts of one wheel (side sign ``sgn``) at the converged pose from its
     locus gaps ``gap`` (m, lifted to G at ``z_g``) on the samples ``s``: the gap minima of
     :func:`contact_minima`, each refined by the parabola through its neighbours (offset within
-    half a sample), and the wheel point there on the profile ``pp`` (``(c, x, c1, x1)`` of
+    half a sample) or, where ``s_fix`` is finite (:func:`dip_minima`: the samples do not
+    resolve the minimum), placed at ``s_fix``, and the wheel point there on the profile ``pp``
+    (``(c, x, c1, x1)`` of
     :attr:`lutmpi.profiles.model.Profile.ppolys`; radius ``r0`` + spline, m) at its locus angle.
 
     Returns
@@ -616,6 +712,8 @@ def rigid_contacts(gap, s, sgn, d, r0, pp, y, yaw, roll, z_g, double_tol, max_co
                 t = min(max(0.5 * (gm - gp) / den, -0.5), 0.5)
                 g = g0 - 0.25 * (gm - gp) * t
         sv = s[i] + t * ds
+        if np.isfinite(s_fix[i]):   # resampled: the gap array holds its minimum already
+            sv, g = s_fix[i], gap[i]
         r = r0 + ppoly_at(zc, zx, sv)
         x = b * (sgn * ppoly_at(dc, dx, sv)) / amp
         phi = beta + np.arcsin(min(max(x, -1.0), 1.0))

@@ -57,7 +57,16 @@ yawed worn flange on a steep gauge face dipped 0.15 mm between samples; every me
 reference in ~580 of each grid's 1369 poses by up to 1.7 um (paper) / 4.2 um (Manchester) of
 z_g, the flange wheel that hovered up to 0.99 um above its rail now touching it to 7 nm by a
 brute-force check over the wheel surface; the mesh methods through their rigid start and
-windows, the load centre by up to 2.4 um of z_g and 45 um of rolling radius in 24 poses).
+windows, the load centre by up to 2.4 um of z_g and 45 um of rolling radius in 24 poses);
+re-derived when every discrete gap minimum within 5 mm of the smallest came to be resampled
+(not only the smallest's), and the rigid contacts to be placed where the resampled locus has its
+minimum, not by the parabola through three samples (2026-11-24: the reference's contacts moved
+in 580 paper and 612 Manchester poses, by up to 8.5 / 54 um of rolling radius and 0.8 / 6.0 mrad
+of contact angle, onto the point a brute-force surface search finds to ~1 um where they lay up
+to 21 um of profile from it; its z_g in 4 Manchester poses by 0.72 um; the mesh methods through
+their rigid start, the load centre by up to 0.51 / 1.6 um of z_g; every status and contact
+count the same; in 4 Manchester double contacts the two slots of the reference swapped, their
+gaps now equal to rounding).
 """
 
 from __future__ import annotations

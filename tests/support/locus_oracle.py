@@ -136,12 +136,16 @@ def contact_minima(gap: np.ndarray, double_tol: float, max_contacts: int = 2) ->
     return chosen
 
 
-def refine_contact(sd, loc, i: int, centre: np.ndarray, R: np.ndarray) -> RigidContact:
+def refine_contact(sd, loc, i: int, centre: np.ndarray, R: np.ndarray,
+                   s_fix: np.ndarray | None = None) -> RigidContact:
     """The rigid contact of gap minimum ``i`` of locus ``loc`` (side ``sd`` of a
     :class:`~lutmpi.contact.locus.LocusSolver`) as :meth:`LocusSolver.finish` computed it in
     numpy before it was compiled (issue 14): the parabola's offset through the minimum and its
     neighbours, the wheel's radius and slope there, the locus angle, the point ``G + R c``. The
-    oracle of :func:`lutmpi.contact.rigid_kernels.rigid_contacts`."""
+    oracle of :func:`lutmpi.contact.rigid_kernels.rigid_contacts`. Where ``s_fix[i]`` is finite
+    (a minimum the samples do not resolve, resampled by
+    :func:`~lutmpi.contact.rigid_kernels.dip_minima`) the contact lies there, with the gap
+    ``loc.gap[i]``."""
     g = loc.gap
     t, gmin = 0.0, float(g[i])
     if 0 < i < g.size - 1 and np.isfinite(g[i - 1] + g[i + 1]):
@@ -151,6 +155,8 @@ def refine_contact(sd, loc, i: int, centre: np.ndarray, R: np.ndarray) -> RigidC
             t = min(max(float(0.5 * (gm - gp) / den), -0.5), 0.5)
             gmin = float(g0 - 0.25 * (gm - gp) * t)
     s = float(loc.s[i] + t * (loc.s[1] - loc.s[0]))
+    if s_fix is not None and np.isfinite(s_fix[i]):
+        s, gmin = float(s_fix[i]), float(g[i])
     r, dr = float(sd.wheel.radius(s)), float(sd.wheel.dr(s))
     a, b, c = R[0]
     phi = float(np.arctan2(c, a) + np.arcsin(np.clip(b * (loc.side * dr) / np.hypot(a, c),

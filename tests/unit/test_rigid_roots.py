@@ -410,40 +410,60 @@ def test_compiled_contact_refinement_equals_the_python_one(thinned_scene):
     # the contacts of the converged root are refined compiled (rk.rigid_contacts, issue 14);
     # the numpy form it replaced is the oracle. numba's arcsin and arctan2 round differently
     # from numpy's in the last bit, so the locus angle (and what depends on it) agrees to a
-    # few ulp; the discrete results (which minima, at_end) exactly
+    # few ulp; the discrete results (which minima, at_end) exactly. The minima the samples do
+    # not resolve are resampled first (rk.dip_minima, checked against a brute-force surface
+    # search by the yawed-flange tests below): the oracle takes their gaps and coordinates
+    from lutmpi.contact.locus import Locus
     from lutmpi.geometry.pose import wheelset_rotation
     from tests.support.locus_oracle import refine_contact
 
     L = thinned_scene.locus
-    seen = {"double": 0, "end": 0}
+    seen = {"double": 0, "end": 0, "resampled": 0}
     for y in np.linspace(-10.0, 10.0, 41) * MM:
         for yaw in (0.0, 0.03, -0.1):
             rig = L.solve(float(y), yaw)
             if not rig.success:
                 continue
             R, centre = wheelset_rotation(yaw, rig.roll), np.array([0.0, y, rig.z_g])
-            for name, loc in rig.loci.items():
+            full = rk.full_locus(float(y), yaw, rig.roll, *L._local_sides)  # G at height 0
+            for k, (name, loc) in enumerate(rig.loci.items()):
                 sd = L.sides[name]
-                want = [refine_contact(sd, loc, i, centre, R)
-                        for i in rk.contact_minima(loc.gap, L.double_tol, L.max_contacts)]
+                s, r, dr, d, tab, lim = sd.local_args
+                gap, s_fix = rk.dip_minima(full[4 * k + 1], sd.sign, s, r, dr, d,
+                                           rk.rotation(yaw, rig.roll), float(y), lim[0], lim[1],
+                                           tab, lim[2], lim[3])
+                gap += rig.z_g
+                fixed = Locus(side=loc.side, s=loc.s, phi=loc.phi, gap=gap)
+                want = [refine_contact(sd, fixed, i, centre, R, s_fix)
+                        for i in rk.contact_minima(gap, L.double_tol, L.max_contacts)]
                 got = rig.contacts[name]
                 assert len(got) == len(want)
                 seen["double"] += len(got) > 1
                 for g, w in zip(got, want, strict=True):
                     seen["end"] += g.at_end
+                    seen["resampled"] += bool(np.isfinite(s_fix).any())
                     assert (g.side, g.at_end, g.s, g.gap) == (w.side, w.at_end, w.s, w.gap)
                     assert g.phi == pytest.approx(w.phi, rel=0.0, abs=1e-15)
                     assert np.allclose(g.point, w.point, rtol=0.0, atol=1e-15)
                     assert g.u == pytest.approx(w.u, rel=0.0, abs=1e-15)
     assert seen["double"] > 0  # double contacts were compared, not only single ones
+    assert seen["resampled"] > 0  # and resampled minima
 
 
 # -- a yawed flange on a steep gauge face: the gap dips between the locus samples --------------
 def _surface_min_gap(scene: Scene, name: str, y: float, yaw: float, roll: float, z: float
                      ) -> float:
     """Smallest vertical gap (m) between wheel ``name``'s surface of revolution and its rail at
-    the pose, by brute force over the surface (no locus): every 25 um of profile and 1 mrad of
-    wheel angle, then every 2 um and 20 urad around the smallest."""
+    the pose (:func:`_surface_min`)."""
+    return _surface_min(scene, name, y, yaw, roll, z)[0]
+
+
+def _surface_min(scene: Scene, name: str, y: float, yaw: float, roll: float, z: float
+                 ) -> tuple[float, float]:
+    """Smallest vertical gap (m) between wheel ``name``'s surface of revolution and its rail at
+    the pose, and the profile coordinate where it lies (m), by brute force over the surface (no
+    locus): every 25 um of profile and 1 mrad of wheel angle, then every 2 um and 20 urad around
+    the smallest."""
     sd = scene.side(name)
     w, rail, side = sd.wheel, sd.rail, sd.sign
     R = rk.rotation(yaw, roll)
@@ -462,7 +482,9 @@ def _surface_min_gap(scene: Scene, name: str, y: float, yaw: float, roll: float,
     g = gaps(s, phi)
     i, j = np.unravel_index(np.argmin(g), g.shape)
     s2 = np.clip(np.linspace(s[i] - 50e-6, s[i] + 50e-6, 51), w.s_min, w.s_max)
-    return float(gaps(s2, np.linspace(phi[j] - 2e-3, phi[j] + 2e-3, 201)).min())
+    g2 = gaps(s2, np.linspace(phi[j] - 2e-3, phi[j] + 2e-3, 201))
+    k = np.unravel_index(np.argmin(g2), g2.shape)[0]
+    return float(g2.min()), float(s2[k])
 
 
 @pytest.mark.parametrize("y_mm, yaw", [(6.0, 0.1), (-6.0, -0.1), (7.5, 0.05), (-7.5, -0.05)])
@@ -485,3 +507,59 @@ def test_a_yawed_flange_gap_dip_between_locus_samples_is_found(y_mm, yaw):
         assert abs(g) < 0.2e-6, f"{name}: {g * 1e6:+.3f} um"
     mirror = scene.locus.solve(-y_mm * MM, -yaw)
     assert abs(mirror.z_g - rig.z_g) < 1e-12 and abs(mirror.roll + rig.roll) < 1e-12
+
+
+def test_a_dip_beside_a_sample_above_the_smallest_is_found():
+    """Two measured wheels on two rails (``Car7358_0001r.whl`` on ``rail_left_iter288.ban``
+    left, ``avg_wheel.whl`` on the Manchester ``.ban`` right) at (-6 mm, -0.08 rad): the right
+    wheel's worn flange tip meets the rail's gauge face 0.36 mm from the end of its data, 0.2 rad
+    ahead of the axle. Its locus samples there lie 82 um above the tread's smallest sample, yet
+    the gap between them dips 132 um below them. Only the smallest sample's neighbours were
+    resampled: the chosen root left the flange tip 50.5 um inside its rail, and the pose was
+    stored as converged, on the tread. Now both wheels touch and neither penetrates its rail
+    (brute-force surface search, 0.2 um), the right wheel's contact lies on the flange tip where
+    the brute force finds it (25 um of profile), on the end of the rail's data (the pose's
+    status says so), and the mirror pose (the sides swapped) is its mirror to 1e-12."""
+    def scene(wl, rl, wr, rr):
+        wheel = {"left": read_profile(PROFILES / wl, kind="wheel"),
+                 "right": read_profile(PROFILES / wr, kind="wheel")}
+        rail = {"left": read_profile(PROFILES / rl, kind="rail"),
+                "right": read_profile(PROFILES / rr, kind="rail")}
+        return Scene.from_profiles(wheel, rail, inclination=0.0, gauge_depth=14.0 * MM)
+
+    sc = scene("Car7358_0001r.whl", "rail_left_iter288.ban", "avg_wheel.whl",
+               "MBench_UIC60_v3.ban")
+    y, yaw = -6.0 * MM, -0.08
+    rig = sc.locus.solve(y, yaw)
+    assert rig.success
+    for name in ("left", "right"):
+        g, s = _surface_min(sc, name, y, yaw, rig.roll, rig.z_g)
+        assert abs(g) < 0.2e-6, f"{name}: {g * 1e6:+.3f} um"
+        if name == "right":
+            (c,) = rig.contacts[name]
+            assert c.at_end and abs(c.s - s) < 25e-6, (c.s / MM, s / MM)
+    assert rig.at_end
+    assert solve_pose(sc, y, yaw, "reference").status == PROFILE_END
+    mirror = scene("avg_wheel.whl", "MBench_UIC60_v3.ban", "Car7358_0001r.whl",
+                   "rail_left_iter288.ban").locus.solve(-y, -yaw)
+    assert abs(mirror.z_g - rig.z_g) < 1e-12 and abs(mirror.roll + rig.roll) < 1e-12
+
+
+@pytest.mark.parametrize("y_mm, yaw", [(-6.0, -0.12 + 13 * 0.24 / 36),
+                                       (-4.5, -0.12 + 5 * 0.24 / 36)])
+def test_a_resampled_flange_contact_lies_where_the_wheel_touches(y_mm, yaw):
+    """The Manchester pair (its configuration file) at two poses of its 37x37 grid, the right
+    wheel on its flange (69.6 and 64.3 deg): the touching height came from the resampled locus,
+    but the contact was placed by the parabola through three 0.1 mm samples, 21 um (and 1.9 um)
+    of profile from where a brute-force search over the wheel surface finds the wheel touching,
+    6 mrad of contact angle off. The contact now lies within 5 um of it (measured 1.1 / 0.4 um)
+    and its gap is the touching height's (0 to 1 nm)."""
+    from lutmpi.config import load_config
+
+    sc = Scene.from_config(load_config(PROFILES.parent / "configs"
+                                       / "manchester_s1002_uic60_1in40.toml"))
+    rig = sc.locus.solve(y_mm * MM, yaw)
+    g, s = _surface_min(sc, "right", y_mm * MM, yaw, rig.roll, rig.z_g)
+    (c,) = rig.contacts["right"]
+    assert abs(g) < 0.01e-6 and abs(c.gap) < 1e-9
+    assert abs(c.s - s) < 5e-6, (c.s / MM, s / MM)
