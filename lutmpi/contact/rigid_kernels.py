@@ -113,8 +113,10 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     at a "converged" rigid root, and the mirror pose choosing another root). Where a neighbour
     of ``k`` lies more than :data:`DIP_M` above ``gk`` or off the rail, the locus between the
     neighbours is resampled :data:`DIP_SUB` times per interval (radius and slope by cubic
-    Hermite interpolation of the samples' own values and slopes) and the parabola is taken
-    through the smallest of those and its neighbours. A well-resolved minimum (the tread, any
+    Hermite interpolation of the samples' own values and slopes), once more :data:`DIP_SUB`
+    times finer between the sub-samples next to the smallest where they too lie more than
+    :data:`DIP_M` above it, and the parabola is taken through the smallest of those and its
+    neighbours. A well-resolved minimum (the tread, any
     contact where the neighbours lie within ``DIP_M``) is left to :func:`touch_height`. The
     coordinate is that of the smallest sub-sample plus the parabola's offset."""
     n = s.size
@@ -134,30 +136,54 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     vals = np.empty(2 * m + 1)
     vals[0], vals[m], vals[2 * m] = gm, gk, gp
     for half in range(2):
-        i0 = k - 1 + half
-        s0, s1 = s[i0], s[i0 + 1]
-        h = s1 - s0
-        r0, r1, d0, d1 = r[i0], r[i0 + 1], dr[i0], dr[i0 + 1]
         for q in range(1, m):
-            t = q / m
-            t2 = t * t
-            t3 = t2 * t
-            rq = ((2 * t3 - 3 * t2 + 1) * r0 + (t3 - 2 * t2 + t) * h * d0
-                  + (-2 * t3 + 3 * t2) * r1 + (t3 - t2) * h * d1)
-            dq = ((6 * t2 - 6 * t) * (r0 - r1) / h + (3 * t2 - 4 * t + 1) * d0
-                  + (3 * t2 - 2 * t) * d1)
-            vals[half * m + q] = _locus_gap(sgn, s0 + t * h, rq, dq, d, R, y, amp, sb, cb, bs,
-                                            u0, du, tabz, u_min, u_max)
+            vals[half * m + q] = _hermite_gap(k - 1 + half, q / m, sgn, s, r, dr, d, R, y, amp,
+                                              sb, cb, bs, u0, du, tabz, u_min, u_max)
     ib = 0
     for q in range(1, 2 * m + 1):
         if vals[q] < vals[ib]:
             ib = q
     val, t = parabola_min(vals, ib, 2 * m + 1)
-    # its profile coordinate: the sub-sample and the parabola's offset, in the sub-interval
-    # toward which the offset points
-    half = 0 if ib < m or (ib == m and t < 0.0) else 1
-    h = s[k + half] - s[k - 1 + half]
-    return val, s[k - 1 + half] + ((ib - half * m) + t) * h / m
+    if 0 < ib < 2 * m and (vals[ib - 1] - vals[ib] > DIP_M or vals[ib + 1] - vals[ib] > DIP_M):
+        # still not resolved (a dip sharper than 1 um over 10 um): once more between the
+        # sub-samples next to the smallest, DIP_SUB times finer
+        m2 = m * m
+        v2 = np.empty(2 * m + 1)
+        v2[0], v2[m], v2[2 * m] = vals[ib - 1], vals[ib], vals[ib + 1]
+        for q in range(1, 2 * m):
+            if q != m:
+                x = (ib - 1) * m + q  # in 1/m2 of a sample interval from s[k - 1]
+                i0 = k - 1 + x // m2
+                v2[q] = _hermite_gap(i0, (x % m2) / m2, sgn, s, r, dr, d, R, y, amp, sb, cb, bs,
+                                     u0, du, tabz, u_min, u_max)
+        i2 = 0
+        for q in range(1, 2 * m + 1):
+            if v2[q] < v2[i2]:
+                i2 = q
+        val, t = parabola_min(v2, i2, 2 * m + 1)
+        pos = ((ib - 1) * m + i2 + t) / m2
+    else:
+        pos = (ib + t) / m
+    # its profile coordinate, in the sample interval it lies in (sample units from s[k - 1])
+    half = 0 if pos <= 1.0 else 1
+    return val, s[k - 1 + half] + (pos - half) * (s[k + half] - s[k - 1 + half])
+
+
+@njit(cache=True, inline="always")
+def _hermite_gap(i0, t, sgn, s, r, dr, d, R, y, amp, sb, cb, bs, u0, du, tabz, u_min, u_max):
+    """:func:`_locus_gap` at ``t`` (0-1) of the sample interval from ``s[i0]``: radius and slope
+    by cubic Hermite interpolation of the samples' own values and slopes."""
+    s0, s1 = s[i0], s[i0 + 1]
+    h = s1 - s0
+    r0, r1, d0, d1 = r[i0], r[i0 + 1], dr[i0], dr[i0 + 1]
+    t2 = t * t
+    t3 = t2 * t
+    rq = ((2 * t3 - 3 * t2 + 1) * r0 + (t3 - 2 * t2 + t) * h * d0
+          + (-2 * t3 + 3 * t2) * r1 + (t3 - t2) * h * d1)
+    dq = ((6 * t2 - 6 * t) * (r0 - r1) / h + (3 * t2 - 4 * t + 1) * d0
+          + (3 * t2 - 2 * t) * d1)
+    return _locus_gap(sgn, s0 + t * h, rq, dq, d, R, y, amp, sb, cb, bs, u0, du, tabz, u_min,
+                      u_max)
 
 
 @njit(cache=True, inline="always")

@@ -66,7 +66,10 @@ of contact angle, onto the point a brute-force surface search finds to ~1 um whe
 to 21 um of profile from it; its z_g in 4 Manchester poses by 0.72 um; the mesh methods through
 their rigid start, the load centre by up to 0.51 / 1.6 um of z_g; every status and contact
 count the same; in 4 Manchester double contacts the two slots of the reference swapped, their
-gaps now equal to rounding).
+gaps now equal to rounding); re-derived when the sub-samples next to such a minimum, where
+they too lie more than 1 um above it, came to be resampled once more 1 um apart (2026-11-24:
+4 Manchester poses, by 2 nm of z_g and 57 urad of the reference's contact angle; the rest to
+rounding: the contacts' coordinates are now computed from the position in sample units).
 """
 
 from __future__ import annotations

@@ -509,6 +509,38 @@ def test_a_yawed_flange_gap_dip_between_locus_samples_is_found(y_mm, yaw):
     assert abs(mirror.z_g - rig.z_g) < 1e-12 and abs(mirror.roll + rig.roll) < 1e-12
 
 
+def _two_pairs_scene(wl: str, rl: str, wr: str, rr: str) -> Scene:
+    """Measured wheel ``wl`` on rail ``rl`` left, ``wr`` on ``rr`` right, as the files give
+    them (no cant), gauge at 14 mm."""
+    wheel = {"left": read_profile(PROFILES / wl, kind="wheel"),
+             "right": read_profile(PROFILES / wr, kind="wheel")}
+    rail = {"left": read_profile(PROFILES / rl, kind="rail"),
+            "right": read_profile(PROFILES / rr, kind="rail")}
+    return Scene.from_profiles(wheel, rail, inclination=0.0, gauge_depth=14.0 * MM)
+
+
+@pytest.mark.parametrize("y_mm", [-2.0, -1.0])
+def test_a_dip_sharper_than_the_resampling_is_resampled_again(y_mm):
+    """``whl_left_iter288.whl`` on the Manchester ``.ban`` rail left, S1002 on
+    ``rail_left_iter288.ban`` right, yaw 0.12 rad: the worn left flange meets the gauge face so
+    sharply that the gap along the locus still falls by more than 1 um between its 10 um
+    sub-samples; the parabola through them left the flange 1.07 / 1.46 um inside its rail (a
+    brute-force search over the wheel surface). The sub-samples next to the smallest are resampled
+    once more, 1 um apart: both wheels touch to 0.1 um (measured 6 / 10 nm), and the flange
+    contact lies within 5 um of profile of where the brute force finds the wheel touching."""
+    sc = _two_pairs_scene("whl_left_iter288.whl", "MBench_UIC60_v3.ban", "MBench_S1002_v3.prw",
+                          "rail_left_iter288.ban")
+    y, yaw = y_mm * MM, 0.12
+    rig = sc.locus.solve(y, yaw)
+    assert rig.success and not rig.at_end
+    for name in ("left", "right"):
+        g, s = _surface_min(sc, name, y, yaw, rig.roll, rig.z_g)
+        assert abs(g) < 0.1e-6, f"{name}: {g * 1e6:+.3f} um"
+        if name == "left":
+            (c,) = rig.contacts[name]
+            assert abs(c.s - s) < 5e-6, (c.s / MM, s / MM)
+
+
 def test_a_dip_beside_a_sample_above_the_smallest_is_found():
     """Two measured wheels on two rails (``Car7358_0001r.whl`` on ``rail_left_iter288.ban``
     left, ``avg_wheel.whl`` on the Manchester ``.ban`` right) at (-6 mm, -0.08 rad): the right
@@ -520,13 +552,7 @@ def test_a_dip_beside_a_sample_above_the_smallest_is_found():
     (brute-force surface search, 0.2 um), the right wheel's contact lies on the flange tip where
     the brute force finds it (25 um of profile), on the end of the rail's data (the pose's
     status says so), and the mirror pose (the sides swapped) is its mirror to 1e-12."""
-    def scene(wl, rl, wr, rr):
-        wheel = {"left": read_profile(PROFILES / wl, kind="wheel"),
-                 "right": read_profile(PROFILES / wr, kind="wheel")}
-        rail = {"left": read_profile(PROFILES / rl, kind="rail"),
-                "right": read_profile(PROFILES / rr, kind="rail")}
-        return Scene.from_profiles(wheel, rail, inclination=0.0, gauge_depth=14.0 * MM)
-
+    scene = _two_pairs_scene
     sc = scene("Car7358_0001r.whl", "rail_left_iter288.ban", "avg_wheel.whl",
                "MBench_UIC60_v3.ban")
     y, yaw = -6.0 * MM, -0.08
