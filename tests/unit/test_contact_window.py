@@ -75,14 +75,17 @@ def test_widened_window_keeps_the_narrow_windows_equilibrium_when_no_node_joins(
     scene = Scene.from_config(load_config(REPO_ROOT / "configs/paper_s1002_uic60_1in20.toml"))
     # (the pose moved from (124, 37) to (123, 42) of that grid when the gauge point came to be
     # solved on the rail's own curve: the rail moved 0.4 um, and (124, 37) now takes 8
-    # evaluations, widened and kept all the same)
+    # evaluations, widened and kept all the same; since the rigid contacts are placed on the
+    # resampled locus minimum this pose takes 8, not 100, and none of the grid's poses that is
+    # widened and kept takes 30 or more: the count below is what says it was kept)
     y = float(np.linspace(-9.0, 9.0, 145)[123]) * MM
     yaw = float(np.linspace(-0.12, 0.12, 73)[42])
     w = solve_pose(scene, y, yaw, "load_centre")
     f = solve_pose(scene, y, yaw, "load_centre", full_mesh=True)
     assert w.success and f.success, (w.message, f.message)
-    # solved once (as many evaluations as the full mesh), then one on the widened window
-    assert w.nit == f.nit + 1 and f.nit > 50
+    # solved once (as many evaluations as the full mesh), then one on the widened window (not
+    # widened: as many as the full mesh; solved again: more)
+    assert w.nit == f.nit + 1
     assert (w.z_g, w.roll) == (f.z_g, f.roll)
 
 

@@ -29,6 +29,7 @@ from lutmpi.profiles.model import Profile
 from lutmpi.profiles.standard import s1002, uic60
 from lutmpi.profiles.wear import flange_thinning
 from lutmpi.scene import Scene, SolveSettings
+from tests.support.surface import surface_min as _surface_min
 
 MM = 1e-3
 PROFILES = Path(__file__).resolve().parents[2] / "profiles"
@@ -454,37 +455,8 @@ def test_compiled_contact_refinement_equals_the_python_one(thinned_scene):
 def _surface_min_gap(scene: Scene, name: str, y: float, yaw: float, roll: float, z: float
                      ) -> float:
     """Smallest vertical gap (m) between wheel ``name``'s surface of revolution and its rail at
-    the pose (:func:`_surface_min`)."""
+    the pose (:func:`tests.support.surface.surface_min`)."""
     return _surface_min(scene, name, y, yaw, roll, z)[0]
-
-
-def _surface_min(scene: Scene, name: str, y: float, yaw: float, roll: float, z: float
-                 ) -> tuple[float, float]:
-    """Smallest vertical gap (m) between wheel ``name``'s surface of revolution and its rail at
-    the pose, and the profile coordinate where it lies (m), by brute force over the surface (no
-    locus): every 25 um of profile and 1 mrad of wheel angle, then every 2 um and 20 urad around
-    the smallest."""
-    sd = scene.side(name)
-    w, rail, side = sd.wheel, sd.rail, sd.sign
-    R = rk.rotation(yaw, roll)
-
-    def gaps(s, phi):
-        S, PH = np.meshgrid(s, phi, indexing="ij")
-        r = np.broadcast_to(w.radius(s)[:, None], S.shape)
-        bx, by, bz = r * np.sin(PH), side * (w.d + S), -r * np.cos(PH)
-        u = side * (y + R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz)
-        pz = z + R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz
-        ok = (u >= rail.u_min) & (u <= rail.u_max)
-        return np.where(ok, pz - rail.height(np.clip(u, rail.u_min, rail.u_max)), np.inf)
-
-    s = np.arange(w.s_min, w.s_max, 25e-6)
-    phi = np.linspace(-0.35, 0.35, 701)
-    g = gaps(s, phi)
-    i, j = np.unravel_index(np.argmin(g), g.shape)
-    s2 = np.clip(np.linspace(s[i] - 50e-6, s[i] + 50e-6, 51), w.s_min, w.s_max)
-    g2 = gaps(s2, np.linspace(phi[j] - 2e-3, phi[j] + 2e-3, 201))
-    k = np.unravel_index(np.argmin(g2), g2.shape)[0]
-    return float(g2.min()), float(s2[k])
 
 
 @pytest.mark.parametrize("y_mm, yaw", [(6.0, 0.1), (-6.0, -0.1), (7.5, 0.05), (-7.5, -0.05)])
