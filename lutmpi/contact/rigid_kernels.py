@@ -116,9 +116,9 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     Hermite interpolation of the samples' own values and slopes), once more :data:`DIP_SUB`
     times finer between the sub-samples next to the smallest where they too lie more than
     :data:`DIP_M` above it, and the parabola is taken through the smallest of those and its
-    neighbours. A well-resolved minimum (the tread, any
-    contact where the neighbours lie within ``DIP_M``) is left to :func:`touch_height`. The
-    coordinate is that of the smallest sub-sample plus the parabola's offset."""
+    neighbours. A well-resolved minimum (the tread, any contact where the neighbours lie within
+    ``DIP_M``) is left to :func:`touch_height`. The coordinate is that of the smallest
+    sub-sample plus the parabola's offset."""
     n = s.size
     if k <= 0 or k >= n - 1:
         return np.nan, np.nan
@@ -209,17 +209,22 @@ def lowest_gap(gap, idx, n, ib, others, sgn, s, r, dr, d, R, y, u0, du, tabz, u_
     limit = gap[ib] + DIP_BAND
     for q in range(n if others else 0):
         g = gap[q]
-        if q == ib or not g <= limit:
-            continue
-        gl = gap[q - 1] if q > 0 and np.isfinite(gap[q - 1]) else np.inf
-        gr = gap[q + 1] if q < n - 1 and np.isfinite(gap[q + 1]) else np.inf
-        if not (g < gl and g <= gr):
+        if q == ib or not g <= limit or not _discrete_min(gap, q, n):
             continue
         g2, s2 = resampled_min(idx[q] if idx.size else q, g, sgn, s, r, dr, d, R, y, u0, du,
                                tabz, u_min, u_max)
         if g2 < best:
             best, sbest, q_best = g2, s2, q
     return best, q_best, sbest
+
+
+@njit(cache=True, inline="always")
+def _discrete_min(gap, q, n):
+    """True when ``gap[q]`` lies below its left neighbour and not above its right one (a
+    non-finite neighbour, or none, counting as +inf)."""
+    gl = gap[q - 1] if q > 0 and np.isfinite(gap[q - 1]) else np.inf
+    gr = gap[q + 1] if q < n - 1 and np.isfinite(gap[q + 1]) else np.inf
+    return gap[q] < gl and gap[q] <= gr
 
 
 @njit(cache=True, inline="always")
@@ -687,11 +692,7 @@ def dip_minima(gap, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     limit = best + DIP_BAND
     for q in range(n):
         g = gap[q]
-        if not g <= limit:
-            continue
-        gl = gap[q - 1] if q > 0 and np.isfinite(gap[q - 1]) else np.inf
-        gr = gap[q + 1] if q < n - 1 and np.isfinite(gap[q + 1]) else np.inf
-        if q != ib and not (g < gl and g <= gr):
+        if not g <= limit or (q != ib and not _discrete_min(gap, q, n)):
             continue
         g2, s2 = resampled_min(q, g, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
         if not np.isnan(g2):
@@ -707,8 +708,8 @@ def rigid_contacts(gap, s, sgn, d, r0, pp, y, yaw, roll, z_g, double_tol, max_co
     :func:`contact_minima`, each refined by the parabola through its neighbours (offset within
     half a sample) or, where ``s_fix`` is finite (:func:`dip_minima`: the samples do not
     resolve the minimum), placed at ``s_fix``, and the wheel point there on the profile ``pp``
-    (``(c, x, c1, x1)`` of
-    :attr:`lutmpi.profiles.model.Profile.ppolys`; radius ``r0`` + spline, m) at its locus angle.
+    (``(c, x, c1, x1)`` of :attr:`lutmpi.profiles.model.Profile.ppolys`; radius ``r0`` +
+    spline, m) at its locus angle.
 
     Returns
     -------
