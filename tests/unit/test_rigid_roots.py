@@ -452,13 +452,6 @@ def test_compiled_contact_refinement_equals_the_python_one(thinned_scene):
 
 
 # -- a yawed flange on a steep gauge face: the gap dips between the locus samples --------------
-def _surface_min_gap(scene: Scene, name: str, y: float, yaw: float, roll: float, z: float
-                     ) -> float:
-    """Smallest vertical gap (m) between wheel ``name``'s surface of revolution and its rail at
-    the pose (:func:`tests.support.surface.surface_min`)."""
-    return _surface_min(scene, name, y, yaw, roll, z)[0]
-
-
 @pytest.mark.parametrize("y_mm, yaw", [(6.0, 0.1), (-6.0, -0.1), (7.5, 0.05), (-7.5, -0.05)])
 def test_a_yawed_flange_gap_dip_between_locus_samples_is_found(y_mm, yaw):
     """The measured ``avg_wheel.whl`` on the Manchester rail: at a yaw of 0.05-0.1 rad its worn
@@ -475,7 +468,7 @@ def test_a_yawed_flange_gap_dip_between_locus_samples_is_found(y_mm, yaw):
     rig = scene.locus.solve(y_mm * MM, yaw)
     assert rig.success
     for name in ("left", "right"):
-        g = _surface_min_gap(scene, name, y_mm * MM, yaw, rig.roll, rig.z_g)
+        g = _surface_min(scene, name, y_mm * MM, yaw, rig.roll, rig.z_g)[0]
         assert abs(g) < 0.2e-6, f"{name}: {g * 1e6:+.3f} um"
     mirror = scene.locus.solve(-y_mm * MM, -yaw)
     assert abs(mirror.z_g - rig.z_g) < 1e-12 and abs(mirror.roll + rig.roll) < 1e-12
