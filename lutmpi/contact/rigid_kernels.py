@@ -45,6 +45,13 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
     a, b, c = R[0, 0], R[0, 1], R[0, 2]
     amp = np.sqrt(a * a + c * c)
     beta = np.arctan2(c, a)
+    if idx.size == s.size:  # every sample (sorted, unique: idx is arange): run_gaps' loops
+        if keep_phi:
+            bs = b * sgn
+            for q in range(s.size):
+                phis[q] = beta + np.arcsin(min(max(bs * dr[q] / amp, -1.0), 1.0))
+        return run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap,
+                        np.empty(s.size), np.empty(s.size), True)
     sb, cb = c / amp, a / amp  # sin(beta), cos(beta)
     nt = tabz.size
     best, ib = np.inf, -1
