@@ -4,9 +4,11 @@ as NaN, indentation 0)."""
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from lutmpi.contact.records import SIDE_SIGN, contact_records
 from lutmpi.equilibrium.result import CONVERGED, STATUS, PoseResult
+from lutmpi.profiles.spline import ppoly_at
 
 
 def rigid_result(scene, rigid, name: str) -> PoseResult:
@@ -22,14 +24,29 @@ def rigid_result(scene, rigid, name: str) -> PoseResult:
         rail, cs = scene.side(side_name).rail, rigid.contacts[side_name]
         if not cs:
             continue
-        u = np.clip([c.u for c in cs], rail.u_min, rail.u_max)
-        slopes, heights = rail.slope(u), rail.height(u)  # one spline call each per side
-        for c, ui, sl, zr in zip(cs, u, slopes, heights, strict=True):
-            ui, sl = float(ui), float(sl)
-            n = np.array([0.0, side * -sl, 1.0]) / np.hypot(1.0, sl)
-            rp = np.array([c.point[0], side * ui, float(zr)])
-            rows.append((side, c.point, rp, n, max(-c.gap, 0.0), c.s, np.nan))
+        u = np.array([c.u for c in cs])
+        rp, n = _rail_points(side, u, np.array([c.point[0] for c in cs]), rail.ppolys,
+                             rail.u_min, rail.u_max)
+        for c, rpi, ni in zip(cs, rp, n, strict=True):
+            rows.append((side, c.point, rpi, ni, max(-c.gap, 0.0), c.s, np.nan))
             names.append(side_name)
     for side_name, rec in zip(names, contact_records(scene, rows), strict=True):
         res.contacts[side_name].append(rec)
     return res
+
+
+@njit(cache=True)
+def _rail_points(side, u, x, rpp, u_min, u_max):
+    """The rail point under each rigid contact (track frame: ``x``, lateral ``side * u`` with
+    ``u`` clipped to the rail's data, the rail's height there) and the rail's outward unit
+    normal ``(0, -side * slope, 1) / hypot(1, slope)``; ``rpp``: the placed rail's ``ppolys``.
+    Returns ``(points (k, 3), normals (k, 3))``, m."""
+    c, xs, c1, x1 = rpp
+    rp, n = np.empty((u.size, 3)), np.empty((u.size, 3))
+    for i in range(u.size):
+        ui = min(max(u[i], u_min), u_max)
+        sl = ppoly_at(c1, x1, ui)
+        den = np.hypot(1.0, sl)
+        n[i, 0], n[i, 1], n[i, 2] = 0.0 / den, side * -sl / den, 1.0 / den
+        rp[i, 0], rp[i, 1], rp[i, 2] = x[i], side * ui, ppoly_at(c, xs, ui)
+    return rp, n
