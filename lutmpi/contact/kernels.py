@@ -253,13 +253,46 @@ def set_profile_coordinates(out, side, pose, wheel):
 def locus_at_slices(ws, ls, lphi, lgap):
     """The rigid locus (samples ``ls`` with angles ``lphi`` and gaps ``lgap``, m; NaN: not over
     the rail) interpolated at the mesh slices ``ws``: locus angle and gap per slice, the gap
-    +inf off the samples and where no point is over the rail."""
-    phi = np.interp(ws, ls, lphi)
-    gap = np.interp(ws, ls, np.where(np.isfinite(lgap), lgap, 1.0))
-    for i in range(ws.size):
-        if ws[i] < ls[0] or ws[i] > ls[-1] or gap[i] >= 1.0:
-            gap[i] = np.inf
+    +inf off the samples and where no point is over the rail. ``np.interp`` of both (a
+    non-finite gap taken as 1 m), the two in one walk along the samples: the same bits
+    (``tests/unit/test_contact_mesh.py``), a third of the time for increasing ``ws``."""
+    n, m = ws.size, ls.size
+    phi, gap = np.empty(n), np.empty(n)
+    j = 0
+    for i in range(n):
+        x = ws[i]
+        while j > 0 and ls[j] > x:
+            j -= 1
+        while j < m - 1 and ls[j + 1] <= x:
+            j += 1
+        if x < ls[0]:  # np.interp: the first value left of the samples, the last right
+            phi[i], gap[i] = lphi[0], np.inf
+            continue
+        if x > ls[m - 1]:
+            phi[i], gap[i] = lphi[m - 1], np.inf
+            continue
+        g0 = lgap[j] if np.isfinite(lgap[j]) else 1.0
+        if j == m - 1 or ls[j] == x:
+            p, g = lphi[j], g0
+        else:
+            g1 = lgap[j + 1] if np.isfinite(lgap[j + 1]) else 1.0
+            p = _interp_step(x, ls[j], ls[j + 1], lphi[j], lphi[j + 1])
+            g = _interp_step(x, ls[j], ls[j + 1], g0, g1)
+        phi[i], gap[i] = p, (np.inf if g >= 1.0 else g)
     return phi, gap
+
+
+@njit(cache=True, inline="always")
+def _interp_step(x, x0, x1, f0, f1):
+    """``np.interp`` between two samples (numba's and numpy's formula, with its retry from the
+    right where the left's gives NaN)."""
+    slope = (f1 - f0) / (x1 - x0)
+    v = slope * (x - x0) + f0
+    if np.isnan(v):
+        v = slope * (x - x1) + f1
+        if np.isnan(v) and f0 == f1:
+            v = f0
+    return v
 
 
 @njit(cache=True)
