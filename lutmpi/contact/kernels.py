@@ -386,6 +386,21 @@ def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt, sin_t, 
     return K[:cnt], M[:cnt], BP[:cnt], BN[:cnt], TP[:cnt]
 
 
+@njit(cache=True)
+def window_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt, sin_t, cos_t, with_rail):
+    """A window's nodes in one call: :func:`window_wheel_nodes`, then (``with_rail``, and
+    where a wheel node was kept) :func:`window_rail_nodes` (one dispatch of the meshes'
+    arrays instead of two, ~5 us each). Returns (k, m, body points, body normals, rail track
+    points, rail track normals)."""
+    k, m, pts, nrm, tp = window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt,
+                                            sin_t, cos_t)
+    if with_rail and k.size:
+        rp, rn = window_rail_nodes(side, k, m, tp, wheel, rail, pose, filt)
+    else:
+        rp, rn = np.zeros((0, 3)), np.zeros((0, 3))
+    return k, m, pts, nrm, rp, rn
+
+
 #: margin of :func:`_row_tangents`' bounds (tangent of the angle, ~rad here): far above the
 #: rounding of ``atan2`` and ``tan`` (~1e-16), far below a node's angular step (~1e-3 rad)
 TAN_MARGIN = 1e-9

@@ -22,9 +22,8 @@ from lutmpi.contact.kernels import (
     WheelArrays,
     WindowArrays,
     angle_table,
-    window_rail_nodes,
+    window_nodes,
     window_slices,
-    window_wheel_nodes,
 )
 from lutmpi.errors import GeometryError
 from lutmpi.geometry.track import PlacedRail, WheelGeometry
@@ -216,11 +215,8 @@ def build_window(
             f"across x {wmesh.h_circ * 1e3:g} mm around the wheel are too fine; coarsen [mesh] "
             "(defaults 0.25 x 0.5 mm)")
     pose = Pose(centre, R)
-    k, m, pts, nrm, tp = window_wheel_nodes(
-        side, ks.astype(np.int64), mc.astype(np.int64), mh.astype(np.int64), wmesh.arrays,
-        rmesh.arrays, pose, gmin + depth, not full, *wmesh.angles)
-    if with_rail and k.size:
-        rp, rn = window_rail_nodes(side, k, m, tp, wmesh.arrays, rmesh.arrays, pose, not full)
-    else:
-        rp = rn = np.zeros((0, 3))
+    k, m, pts, nrm, rp, rn = window_nodes(
+        side, np.asarray(ks, dtype=np.int64), np.asarray(mc, dtype=np.int64),
+        np.asarray(mh, dtype=np.int64), wmesh.arrays, rmesh.arrays, pose, gmin + depth, not full,
+        *wmesh.angles, with_rail)
     return Window(side=side, k=k, m=m, body_pts=pts, body_nrm=nrm, rail_pts=rp, rail_nrm=rn)
