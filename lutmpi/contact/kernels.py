@@ -254,13 +254,17 @@ def locus_at_slices(ws, ls, lphi, lgap):
     """The rigid locus (samples ``ls`` with angles ``lphi`` and gaps ``lgap``, m; NaN: not over
     the rail) interpolated at the mesh slices ``ws``: locus angle and gap per slice, the gap
     +inf off the samples and where no point is over the rail. ``np.interp`` of both (a
-    non-finite gap taken as 1 m), the two in one walk along the samples: the same bits
-    (``tests/unit/test_contact_mesh.py``), a third of the time for increasing ``ws``."""
+    non-finite gap taken as 1 m), the two in one walk along the samples: the same bits for
+    strictly increasing ``ls`` (``tests/unit/test_contact_mesh.py``), a third of the time for
+    increasing ``ws``."""
     n, m = ws.size, ls.size
     phi, gap = np.empty(n), np.empty(n)
     j = 0
     for i in range(n):
         x = ws[i]
+        if np.isnan(x):  # np.interp: NaN in, NaN out
+            phi[i], gap[i] = x, x
+            continue
         while j > 0 and ls[j] > x:
             j -= 1
         while j < m - 1 and ls[j + 1] <= x:

@@ -381,12 +381,12 @@ def contact_minima(gap, double_tol, max_contacts):
 @njit(cache=True)
 def scan_side(sgn, side, R, y, gap, fine, U, PZ):
     """Touching height of one wheel from its coarse samples, refined on every sample within one
-    coarse step of each coarse local minimum and of each coarse sample next to the end of the
-    data, where that sample lies less than :data:`SCAN_BAND` above the smallest (a narrow
-    minimum, e.g. a yawed flange flank on the last points of a rail, falls between coarse
-    samples: up to 3 mm of gap on the measured profiles; an end of the data farther above the
-    smallest, refined on every scan point before, cost ~30 % of the scan); -inf when no point is
-    over the rail."""
+    coarse step of each coarse local minimum less than :data:`SCAN_BAND` above the smallest and
+    of each coarse sample next to the end of the data (a narrow minimum, e.g. a yawed flange
+    flank on the last points of a rail, falls between coarse samples: up to 3 mm of gap on the
+    measured profiles, and 29 mm on a worn wheel at the end of a measured rail's data, whose
+    coarse sample lay 26 mm above the smallest: no band bounds it); -inf when no point is over
+    the rail."""
     idx, s, r, dr, d, tab, lim, s_c, r_c, dr_c = side
     h, ib = run_gaps(sgn, s_c, r_c, dr_c, d, R, y, lim[0], lim[1], tab, lim[2], lim[3], gap, U,
                      PZ, False)
@@ -399,11 +399,10 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
         g = gap[q]
         if not np.isfinite(g):
             continue
-        if g > limit:
-            continue  # a dip between coarse samples this far above the smallest: none seen
         edge = q == 0 or q == n - 1 or not (np.isfinite(gap[q - 1]) and np.isfinite(gap[q + 1]))
-        if not edge and (gap[q - 1] < g or gap[q + 1] < g):
-            continue  # not a coarse local minimum (the end of the data is refined as one)
+        if not edge:  # the end of the data (a knife edge) is always refined
+            if g > limit or gap[q - 1] < g or gap[q + 1] < g:
+                continue  # not a coarse local minimum near the smallest
         lo, hi = max(idx[q] - step, 0), min(idx[q] + step + 1, s.size)
         h2, _ = run_gaps(sgn, s[lo:hi], r[lo:hi], dr[lo:hi], d, R, y, lim[0], lim[1], tab,
                          lim[2], lim[3], fine, U, PZ, True)

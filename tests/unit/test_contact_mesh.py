@@ -196,7 +196,7 @@ def test_locus_at_the_slices_is_np_interp_to_the_bit():
     """The window's locus at the mesh slices walks the samples once for angle and gap; it is
     ``np.interp`` of each (a non-finite gap as 1 m, +inf off the samples and at or above 1 m)
     to the bit: on a real locus with the rail's end in it, on slices beyond both ends of the
-    samples, on slices at sample points, and on unsorted slices."""
+    samples, on slices at sample points, on unsorted slices and at a NaN."""
     from lutmpi.contact.kernels import locus_at_slices
 
     def oracle(ws, ls, lphi, lgap):
@@ -210,10 +210,11 @@ def test_locus_at_the_slices_is_np_interp_to_the_bit():
     loc, wm = rigid.loci["right"], scene.side("right").wheel_mesh
     rng = np.random.default_rng(3)
     cases = [wm.s, np.concatenate([[loc.s[0] - 1e-3], loc.s[::7], [loc.s[-1] + 1e-3]]),
-             rng.permutation(wm.s), np.sort(rng.uniform(loc.s[0] - 2e-3, loc.s[-1] + 2e-3, 500))]
+             rng.permutation(wm.s), np.sort(rng.uniform(loc.s[0] - 2e-3, loc.s[-1] + 2e-3, 500)),
+             np.array([loc.s[-1], np.nan, loc.s[3]])]
     assert not np.all(np.isfinite(loc.gap))  # samples off the rail: the 1 m stand-in is read
     for ws in cases:
         got, want = locus_at_slices(ws, loc.s, loc.phi, loc.gap), oracle(ws, loc.s, loc.phi,
                                                                           loc.gap)
         for g, w in zip(got, want, strict=True):
-            assert np.array_equal(g, w)
+            assert np.array_equal(g, w, equal_nan=True)

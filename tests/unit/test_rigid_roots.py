@@ -203,7 +203,7 @@ def test_two_point_scan_skips_no_root_and_fewer_points(thinned_scene):
 
     L = thinned_scene.locus
     lo, hi = float(L.scan_rolls[0]), float(L.scan_rolls[-1])
-    tried, n_two, n_ones = 0, 0, 0
+    tried = 0
     for y, yaw in [(8.0 * MM, 0.0), (7.0 * MM, 0.02), (-6.0 * MM, -0.05), (3.0 * MM, 0.1),
                    (0.0, 0.0), (9.5 * MM, 0.0)]:
         # the invariant holds for any bound (a small one makes the two-point tries fail often)
@@ -225,8 +225,7 @@ def test_two_point_scan_skips_no_root_and_fewer_points(thinned_scene):
             xo = min(xo + (max(SCAN_STEP, abs(ho) / L.lipschitz) if np.isfinite(ho)
                            else SCAN_STEP), hi)
             n_one += 1
-        assert x.size < n_one, (x.size, n_one)
-        n_two, n_ones = n_two + x.size, n_ones + n_one
+        assert x.size < 0.8 * n_one, (x.size, n_one)
         hfun = lambda r, y=y, yaw=yaw: L.scan(y, yaw, r)  # noqa: E731
         roots = lambda br: [0.5 * (a + b) for a, b, _ in br]  # noqa: E731
         got = find_brackets(x, hfun, h=h, lip=L.lipschitz)
@@ -235,9 +234,25 @@ def test_two_point_scan_skips_no_root_and_fewer_points(thinned_scene):
         assert np.allclose(roots(got), roots(want), atol=SCAN_STEP)
         tried += len(want)
     assert tried >= 8  # the poses hold roots (three at y = 8 mm): the comparison is real
-    # 343 points against 428 (0.80) with the bound of Rx's lever arms; most of the rest lie
-    # near the roots, where the step is the scan step
-    assert n_two < 0.85 * n_ones, (n_two, n_ones)
+
+
+def test_the_scan_refines_the_end_of_a_rails_data_however_high_its_coarse_sample():
+    # a worn wheel on the end of a measured rail's data at yaw 0.12: the true gap minimum lies
+    # within one coarse step of a coarse sample 26 mm above the smallest coarse gap, 29 mm
+    # below that sample. The scan refines every end of the data, whatever its height: with a
+    # 5 mm band on the ends (a speed-up tried and withdrawn) the scan's h at roll 0 was 2.8 mm
+    # off the full samples' and changed sign, and the scan found two false brackets
+    w = {"left": read_profile(PROFILES / "whl_left_iter288.whl", kind="wheel"),
+         "right": read_profile(PROFILES / "MBench_S1002_v3.prw", kind="wheel")}
+    r = {"left": read_profile(PROFILES / "MBench_UIC60_v3.ban", kind="rail"),
+         "right": read_profile(PROFILES / "rail_left_iter288.ban", kind="rail")}
+    L = Scene.from_profiles(w, r, inclination=0.0, gauge_depth=14.0 * MM).locus
+    y, yaw = -1.5 * MM, 0.12
+    rolls = np.array([-2e-3, 0.0, 1.597e-3, 1.6e-3, 4e-3])
+    full = np.array([L._h(y, yaw, x) for x in rolls])
+    assert np.all(np.isfinite(full))
+    assert np.max(np.abs(L.scan(y, yaw, rolls) - full)) < 5e-6
+    assert len(L.brackets(y, yaw)) == 1
 
 
 @pytest.mark.parametrize("pair", ["thinned", "measured"])
@@ -247,8 +262,9 @@ def test_the_scans_bound_of_dh_droll_holds_where_h_is_smooth(thinned_scene, pair
     # 2 urad agree), |dh/droll| stays below it. The measured pair puts a worn flange on a rail
     # whose data end near the gauge corner. Measured: ~1.5 at most (the two wheels' lateral
     # arms; a contact on a flange turns the lever arm of its rail slope against them), against
-    # a bound of ~12-13 (which must hold at a corner too, where the rail's slope, up to tan 85
-    # deg, need not match the wheel's)
+    # a bound of ~12-15 (which must hold at a corner too, where the rail's slope need not
+    # match the wheel's). The scan's coarse h jumps where its refined minimum changes: only
+    # the smooth parts are compared
     if pair == "thinned":
         scene, poses = thinned_scene, [(8.0 * MM, 0.0), (-6.0 * MM, -0.05), (3.0 * MM, 0.1)]
     else:
