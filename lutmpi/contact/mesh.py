@@ -22,8 +22,9 @@ from lutmpi.contact.kernels import (
     WheelArrays,
     WindowArrays,
     angle_table,
+    locus_at_slices,
+    locus_window,
     window_nodes,
-    window_slices,
 )
 from lutmpi.errors import GeometryError
 from lutmpi.geometry.track import PlacedRail, WheelGeometry
@@ -181,8 +182,7 @@ def build_window(
     rmesh: RailMesh,
     centre: np.ndarray,
     R: np.ndarray,
-    phi_star: np.ndarray,
-    gap_k: np.ndarray,
+    locus: tuple[np.ndarray, np.ndarray, np.ndarray],
     depth: float,
     with_rail: bool = True,
     full: bool = False,
@@ -191,32 +191,44 @@ def build_window(
 
     Parameters
     ----------
-    phi_star, gap_k : ndarray, shape (nk,)
-        Locus angle and vertical gap of every wheel slice at this pose (m).
+    locus : tuple of ndarray
+        The rigid locus at this pose: sample profile coordinates ``s`` (m), locus angles
+        (rad) and vertical gaps (m; NaN: not over the rail), sampled every 0.1 mm; it is
+        interpolated at the mesh slices (:func:`~lutmpi.contact.kernels.locus_at_slices`:
+        window selection only, the interpolation error is a few nm of gap).
     depth : float
         Keep nodes whose vertical gap to the other surface is within ``depth`` of the minimum
         gap (m); slices are kept when their locus gap is.
     full : bool
         Take every slice over the rail and a wide band of angles (the reference "full mesh").
     """
-    gmin = np.min(gap_k)
-    if full:
-        ks = np.nonzero(np.isfinite(gap_k))[0]
-        half_arc = np.full(ks.size, 0.25 * wmesh.wheel.r0)
-        mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
-        mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
-    else:
-        ks, mc, mh = window_slices(gap_k, phi_star, wmesh.r, depth, wmesh.h_circ, wmesh.dphi)
-    n_nodes = int(np.sum(2 * mh + 1))
-    if n_nodes > MAX_WINDOW_NODES:     # e.g. 0.001 mm meshes: a clear error, not a MemoryError
+    pose = Pose(centre, R)
+    ls, lphi, lgap = locus
+    if not full:
+        n_nodes, k, m, pts, nrm, rp, rn = locus_window(
+            side, ls, lphi, lgap, depth, wmesh.h_circ, wmesh.arrays, rmesh.arrays, pose,
+            *wmesh.angles, with_rail, MAX_WINDOW_NODES)
+        _check_size(n_nodes, wmesh)
+        return Window(side=side, k=k, m=m, body_pts=pts, body_nrm=nrm, rail_pts=rp, rail_nrm=rn)
+    phi_star, gap_k = locus_at_slices(wmesh.s, ls, lphi, lgap)
+    ks = np.nonzero(np.isfinite(gap_k))[0]
+    half_arc = np.full(ks.size, 0.25 * wmesh.wheel.r0)
+    mc = np.round(phi_star[ks] / wmesh.dphi).astype(int)
+    mh = np.ceil(half_arc / wmesh.h_circ).astype(int)
+    _check_size(int(np.sum(2 * mh + 1)), wmesh)
+    k, m, pts, nrm, rp, rn = window_nodes(
+        side, np.asarray(ks, dtype=np.int64), np.asarray(mc, dtype=np.int64),
+        np.asarray(mh, dtype=np.int64), wmesh.arrays, rmesh.arrays, pose,
+        np.min(gap_k) + depth, False, *wmesh.angles, with_rail)
+    return Window(side=side, k=k, m=m, body_pts=pts, body_nrm=nrm, rail_pts=rp, rail_nrm=rn)
+
+
+def _check_size(n_nodes: int, wmesh: WheelMesh) -> None:
+    """A clear error where a window would hold more than :data:`MAX_WINDOW_NODES` wheel nodes
+    (e.g. 0.001 mm meshes), not a MemoryError."""
+    if n_nodes > MAX_WINDOW_NODES:
         raise GeometryError(
             f"the contact window would hold {n_nodes:.3g} wheel nodes (~{n_nodes * 100 / 1e9:.0f} "
             f"GB), more than {MAX_WINDOW_NODES:.0e}: mesh spacings {wmesh.h_lat * 1e3:g} mm "
             f"across x {wmesh.h_circ * 1e3:g} mm around the wheel are too fine; coarsen [mesh] "
             "(defaults 0.25 x 0.5 mm)")
-    pose = Pose(centre, R)
-    k, m, pts, nrm, rp, rn = window_nodes(
-        side, np.asarray(ks, dtype=np.int64), np.asarray(mc, dtype=np.int64),
-        np.asarray(mh, dtype=np.int64), wmesh.arrays, rmesh.arrays, pose, gmin + depth, not full,
-        *wmesh.angles, with_rail)
-    return Window(side=side, k=k, m=m, body_pts=pts, body_nrm=nrm, rail_pts=rp, rail_nrm=rn)

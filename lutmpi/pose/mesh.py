@@ -10,7 +10,6 @@ import time
 
 import numpy as np
 
-from lutmpi.contact.kernels import locus_at_slices
 from lutmpi.contact.locus import RigidSolution
 from lutmpi.contact.mesh import Window, build_window
 from lutmpi.contact.records import SIDE_SIGN, contact_records
@@ -51,14 +50,9 @@ def windows(scene, rigid: RigidSolution, method, depth: float, full: bool) -> di
     out = {}
     for name, side in SIDE_SIGN.items():
         wm, rm = scene.side(name).wheel_mesh, scene.side(name).rail_mesh
-        # the locus at the rigid pose, sampled every 0.1 mm, interpolated at the mesh slices
-        # (window selection only: the interpolation error is a few nm of gap)
-        loc = rigid.loci[name]
-        phi, gap = locus_at_slices(wm.s, loc.s, loc.phi, loc.gap)
-        out[name] = build_window(
-            side, wm, rm, centre, R, phi, gap, depth,
-            with_rail=method.rail_nodes, full=full,
-        )
+        loc = rigid.loci[name]   # the locus at the rigid pose, sampled every 0.1 mm
+        out[name] = build_window(side, wm, rm, centre, R, (loc.s, loc.phi, loc.gap), depth,
+                                 with_rail=method.rail_nodes, full=full)
     return out
 
 
