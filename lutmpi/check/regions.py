@@ -5,7 +5,9 @@ mesh method under test:
 
 * ``double``      -- a wheel's vertical-gap function along the profile has a second local minimum
                      (separated from the first by a gap maximum) within ``dc_tol`` of the global
-                     minimum: two candidate contact zones, a contact-point jump is near;
+                     minimum (both with the dips between samples resampled, as the rigid
+                     contacts are chosen): two candidate contact zones, a contact-point jump is
+                     near;
 * ``flange``      -- otherwise, the largest contact angle of either wheel >= ``FLANGE_ANGLE``;
 * ``flange_root`` -- ``ROOT_ANGLE`` <= angle < ``FLANGE_ANGLE`` (the throat, tread to flank);
 * ``tread``       -- angle < ``ROOT_ANGLE``.
@@ -81,10 +83,21 @@ def reference_point(scene, ys, yaws, i: int, j: int, dc_tol: float,
     rigid = scene.locus.solve(y, yaw)
     zones, band = 1, dict.fromkeys(SIDES, 0.0)
     if rigid.success:
-        zones = max(len(contact_minima(rigid.loci[s].gap, dc_tol, 2)) for s in SIDES)
-        band = {s: band_width(rigid.loci[s].s, rigid.loci[s].gap, delta) for s in SIDES}
+        # the gaps with the minima the 0.1 mm samples do not resolve resampled, as the rigid
+        # contacts are chosen: a yawed flange's true minimum lies up to tens of um below its
+        # sample, and a second zone within dc_tol of the sample may not be within it of the
+        # true minimum
+        gaps = {s: _resolved(rigid.loci[s]) for s in SIDES}
+        zones = max(len(contact_minima(gaps[s], dc_tol, 2)) for s in SIDES)
+        band = {s: band_width(rigid.loci[s].s, gaps[s], delta) for s in SIDES}
     region, gmax = classify(res, zones)
     return RefPoint(i, j, res, region, gmax, zones, band)
+
+
+def _resolved(loc) -> np.ndarray:
+    """A locus's gaps with its unresolved minima resampled (``gap_min``), else its sample
+    gaps."""
+    return loc.gap if loc.gap_min is None else loc.gap_min
 
 
 class ReferenceGrid:

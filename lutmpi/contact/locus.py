@@ -55,6 +55,10 @@ class Locus:
     s: np.ndarray
     phi: np.ndarray
     gap: np.ndarray  # vertical gap to the rail, m (+inf outside the rail)
+    #: ``gap`` with every minimum the samples do not resolve set to its resampled gap (what
+    #: the rigid contacts are chosen by: :func:`~lutmpi.contact.rigid_kernels.dip_minima`);
+    #: None where not computed
+    gap_min: np.ndarray | None = None
 
 
 def local_minima(gap: np.ndarray) -> np.ndarray:
@@ -479,6 +483,7 @@ class LocusSolver:
                                        lim[1], tab, lim[2], lim[3])
             loc.gap += z_g  # lifting G lifts every gap
             gap += z_g
+            loc.gap_min = gap
             out.loci[name] = loc
             rows = rk.rigid_contacts(gap, loc.s, sd.sign, sd.wheel.d, sd.wheel.r0,
                                      sd.wheel.profile.ppolys, float(y), float(yaw),

@@ -149,3 +149,25 @@ def test_cli_check_fails_on_coarse_spacing(capsys):
     out = capsys.readouterr().out
     assert "mesh.wheel_lateral_mm = 5 too coarse" in out
     assert "FAIL:" in out
+
+
+def test_zones_count_the_minima_the_samples_do_not_resolve():
+    # S1002 on the measured UIC60 .ban rail at y = -4.5 mm, yaw 0.12 rad: the right wheel's
+    # flange minimum dips 26 um below its 0.1 mm sample, so a second zone that lies within
+    # dc_tol (50 um) of the sample lies outside it from the true minimum (the rigid contacts
+    # are chosen on the resampled gaps, and find one contact)
+    from lutmpi.check.regions import reference_point
+    from lutmpi.contact.locus import contact_minima
+    from lutmpi.profiles import read_profile
+
+    prof = ROOT / "profiles"
+    scene = Scene.from_profiles(read_profile(prof / "MBench_S1002_v3.prw", kind="wheel"),
+                                read_profile(prof / "MBench_UIC60_v3.ban", kind="rail"),
+                                inclination=0.0, gauge_depth=14.0 * MM)
+    dc = 5.0 * scene.equilibrium.allowed_indentation
+    y, yaw = -4.5 * MM, 0.12
+    loc = scene.locus.solve(y, yaw).loci["right"]
+    assert len(contact_minima(loc.gap, dc, 2)) == 2          # the samples alone: two zones
+    assert np.nanmin(loc.gap) - np.nanmin(loc.gap_min) > 20e-6
+    point = reference_point(scene, np.array([y]), np.array([yaw]), 0, 0, dc)
+    assert point.n_zones == 1 and point.region != "double"
