@@ -43,6 +43,9 @@ class WheelArrays(NamedTuple):
     tab_dr: np.ndarray
     s_lo: float
     s_hi: float
+    sin_t: np.ndarray   # :func:`angle_table`: sin and cos of the grid's angles m dphi
+    cos_t: np.ndarray
+    tan_b: np.ndarray   # :func:`angle_bounds`: tangents of the angles half-way between them
 
 
 class RailArrays(NamedTuple):
@@ -337,6 +340,53 @@ def angle_table(dphi, half):
     return sin_t, cos_t
 
 
+#: margin of :func:`_row_tangents`' and :func:`grid_angle`'s bounds (tangent of the angle, ~rad
+#: here): far above the rounding of ``atan2`` and ``tan`` (~1e-16), far below a node's angular
+#: step (~1e-3 rad)
+TAN_MARGIN = 1e-9
+
+
+@njit(cache=True)
+def angle_bounds(dphi, half):
+    """The tangent of the angle ``(m + 1/2) dphi`` half-way between the wheel grid's angles
+    ``m dphi`` and ``(m + 1) dphi``, for ``m = -half ... half`` (index ``m + half``); NaN where
+    ``|angle| >= 1.4`` rad (the tangent grows too steep to decide by)."""
+    n = 2 * half + 1
+    out = np.empty(n)
+    for i in range(n):
+        a = (i - half + 0.5) * dphi
+        out[i] = np.tan(a) if -1.4 < a < 1.4 else np.nan
+    return out
+
+
+@njit(cache=True, inline="always")
+def grid_angle(c0, c2, wheel):
+    """The wheel grid's angle index ``m`` nearest the angle ``atan2(c0, -c2)`` of a point at
+    wheel-frame ``(c0, ., c2)``: ``np.round(atan2(c0, -c2) / dphi)``, and the sine and cosine
+    of ``m dphi`` (from :func:`angle_table`, the same bits as computing them). Below the axle
+    (``-c2 > 0``) the tangent ``c0 / -c2`` decides between the two angles' half-way tangents
+    (:func:`angle_bounds`) where it lies farther than :data:`TAN_MARGIN` from both; elsewhere,
+    and where a series estimate of the index misses, ``atan2`` is computed (issue 14)."""
+    dphi, sin_t, cos_t, tan_b = wheel.dphi, wheel.sin_t, wheel.cos_t, wheel.tan_b
+    half = (sin_t.size - 1) // 2
+    if c2 < 0.0:
+        t = c0 / -c2
+        if -0.3 < t < 0.3:
+            t2 = t * t
+            m = int(np.round(t * (1.0 - t2 * (1.0 / 3.0 - 0.2 * t2)) / dphi))
+            i = m + half
+            if (1 <= i < sin_t.size and tan_b[i - 1] + TAN_MARGIN < t
+                    and t < tan_b[i] - TAN_MARGIN):
+                return m, sin_t[i], cos_t[i]
+    mf = np.round(np.arctan2(c0, -c2) / dphi)
+    m = int(mf)
+    i = m + half
+    if 0 <= i < sin_t.size:
+        return m, sin_t[i], cos_t[i]
+    phi = mf * dphi
+    return m, np.sin(phi), np.cos(phi)
+
+
 @njit(cache=True)
 def window_wheel_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt, sin_t, cos_t):
     """Wheel nodes of a window: slices ``ks`` with angle indices ``mc ± mh``; with ``filt``,
@@ -426,11 +476,6 @@ def locus_window(side, ls, lphi, lgap, depth, h_circ, wheel, rail, pose, sin_t, 
     k, m, pts, nrm, rp, rn = window_nodes(side, ks, mc, mh, wheel, rail, pose,
                                           np.min(gap) + depth, True, sin_t, cos_t, with_rail)
     return n_nodes, k, m, pts, nrm, rp, rn
-
-
-#: margin of :func:`_row_tangents`' bounds (tangent of the angle, ~rad here): far above the
-#: rounding of ``atan2`` and ``tan`` (~1e-16), far below a node's angular step (~1e-3 rad)
-TAN_MARGIN = 1e-9
 
 
 @njit(cache=True)

@@ -21,6 +21,7 @@ from lutmpi.contact.kernels import (
     RailArrays,
     WheelArrays,
     WindowArrays,
+    angle_bounds,
     angle_table,
     locus_at_slices,
     locus_window,
@@ -79,8 +80,10 @@ class WheelMesh:
     def arrays(self) -> WheelArrays:
         """The grid as the compiled kernels take it."""
         w = self.wheel
+        half = int(np.ceil(np.pi / self.dphi))
         return WheelArrays(self.s, self.r, self.dr, float(w.d), float(self.dphi), self.tab_s,
-                           self.tab_dr, float(w.s_min), float(w.s_max))
+                           self.tab_dr, float(w.s_min), float(w.s_max), *self.angles,
+                           angle_bounds(float(self.dphi), half))
 
     @cached_property
     def angles(self) -> tuple[np.ndarray, np.ndarray]:

@@ -192,6 +192,48 @@ def test_window_angle_table_is_the_scalar_sine_and_cosine():
         assert np.array_equal(a, b)
 
 
+def test_grid_angle_is_the_rounded_atan2_and_its_table_entries():
+    """The load centre's rail nodes take their nearest wheel angle from the tangent between
+    two half-way tangents (:func:`~lutmpi.contact.kernels.grid_angle`) instead of ``atan2``:
+    the same index as ``np.round(atan2(c0, -c2) / dphi)`` and the same bits of ``sin`` and
+    ``cos`` of its angle as the compiled code computed before (the oracle below), on random
+    points below and above the axle, on points at and an ulp either side of the half-way
+    angles (where it must fall back to ``atan2``) and beyond the series' range."""
+    from numba import njit
+
+    from lutmpi.contact.kernels import grid_angle
+
+    @njit
+    def many(c0, c2, wheel):
+        m = np.empty(c0.size, dtype=np.int64)
+        sp, cp = np.empty(c0.size), np.empty(c0.size)
+        for i in range(c0.size):
+            m[i], sp[i], cp[i] = grid_angle(c0[i], c2[i], wheel)
+        return m, sp, cp
+
+    wm = standard_scene(INC_20).side("left").wheel_mesh
+    dphi = wm.dphi
+    rng = np.random.default_rng(3)
+    ang = np.concatenate([rng.uniform(-0.35, 0.35, 4000), rng.uniform(-3.2, 3.2, 500),
+                          (np.arange(-200, 200) + 0.5) * dphi])
+    ang = np.concatenate([ang, np.nextafter(ang[-400:], 1.0), np.nextafter(ang[-400:], -1.0)])
+    rho = rng.uniform(0.40, 0.50, ang.size)
+    c0, c2 = rho * np.sin(ang), -rho * np.cos(ang)
+    @njit
+    def oracle(c0, c2, dphi):   # what the load centre's rail loop computed before
+        m = np.empty(c0.size, dtype=np.int64)
+        sp, cp = np.empty(c0.size), np.empty(c0.size)
+        for i in range(c0.size):
+            phi = np.round(np.arctan2(c0[i], -c2[i]) / dphi) * dphi
+            m[i], sp[i], cp[i] = int(np.round(phi / dphi)), np.sin(phi), np.cos(phi)
+        return m, sp, cp
+
+    got, want = many(c0, c2, wm.arrays), oracle(c0, c2, dphi)
+    for a, b in zip(got, want, strict=True):
+        assert np.array_equal(a, b)
+    assert np.sum(np.abs(ang) < 0.25) > 2000   # most of them where the tangent decides
+
+
 def test_locus_at_the_slices_is_np_interp_to_the_bit():
     """The window's locus at the mesh slices walks the samples once for angle and gap; it is
     ``np.interp`` of each (a non-finite gap as 1 m, +inf off the samples and at or above 1 m)

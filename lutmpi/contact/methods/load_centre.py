@@ -13,6 +13,7 @@ from numba import njit
 from lutmpi.contact.kernels import (
     K_NEAR,
     empty_contacts,
+    grid_angle,
     nearest_from,
     packed,
     search_wheel_nodes,
@@ -27,7 +28,7 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
     into ``out.rail_point`` and their counts into ``out.n_rail_nodes``."""
     side, centre, R = win.side, pose.centre, pose.R
     rail_pts, rail_nrm = win.rail_pts, win.rail_nrm
-    ws_, wr, wdr, d, dphi = wheel.s, wheel.r, wheel.dr, wheel.d, wheel.dphi
+    ws_, wr, wdr, d = wheel.s, wheel.r, wheel.dr, wheel.d
     # the slices a volume takes rail nodes from, and the profile coordinates outside which a
     # node's nearest slice (within K_NEAR of its sorted position) cannot be one of them
     klo, khi = ws.kmin[0] - 1, ws.kmax[0] + 1
@@ -56,11 +57,11 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
                 break
         if g < 0:
             continue
-        phi = np.round(np.arctan2(c0, -c2) / dphi) * dphi
+        _, sp, cp = grid_angle(c0, c2, wheel)   # the node's angle, its sine and cosine
         r, dr = wr[k], wdr[k]
-        b0, b1, b2 = r * np.sin(phi), side * (d + ws_[k]), -r * np.cos(phi)
+        b0, b1, b2 = r * sp, side * (d + ws_[k]), -r * cp
         inv = 1.0 / np.sqrt(1.0 + dr * dr)
-        n0, n1, n2 = np.sin(phi) * inv, -side * dr * inv, -np.cos(phi) * inv
+        n0, n1, n2 = sp * inv, -side * dr * inv, -cp * inv
         vn = 0.0
         vm = 0.0
         for a in range(3):
