@@ -87,16 +87,16 @@ def reference_point(scene, ys, yaws, i: int, j: int, dc_tol: float,
         # contacts are chosen: a yawed flange's true minimum lies up to tens of um below its
         # sample, and a second zone within dc_tol of the sample may not be within it of the
         # true minimum
-        gaps = {s: _resolved(rigid.loci[s]) for s in SIDES}
+        gaps = {s: resolved_gap(rigid.loci[s]) for s in SIDES}
         zones = max(len(contact_minima(gaps[s], dc_tol, 2)) for s in SIDES)
         band = {s: band_width(rigid.loci[s].s, gaps[s], delta) for s in SIDES}
     region, gmax = classify(res, zones)
     return RefPoint(i, j, res, region, gmax, zones, band)
 
 
-def _resolved(loc) -> np.ndarray:
-    """A locus's gaps with its unresolved minima resampled (``gap_min``), else its sample
-    gaps."""
+def resolved_gap(loc) -> np.ndarray:
+    """A locus's gaps with its unresolved minima resampled (``gap_min``, what the rigid
+    contacts are chosen and placed by), else its sample gaps."""
     return loc.gap if loc.gap_min is None else loc.gap_min
 
 

@@ -35,7 +35,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from lutmpi.check.regions import REGIONS, ReferenceGrid, RefPoint, primary_s, stratified_sample
+from lutmpi.check.regions import (
+    REGIONS,
+    ReferenceGrid,
+    RefPoint,
+    primary_s,
+    resolved_gap,
+    stratified_sample,
+)
 from lutmpi.contact.methods import get_method
 from lutmpi.equilibrium.result import (
     CONVERGED,
@@ -313,7 +320,8 @@ class Suite:
                         continue
                     s0 = cs[0].s
                     near = np.abs(loc.s - s0) <= 0.02   # the patch around this contact only
-                    sel = near & (loc.gap <= np.min(loc.gap[near]) + 2.0 * self.delta)
+                    gap = resolved_gap(loc)             # as the rigid contact was placed
+                    sel = near & (gap <= np.min(gap[near]) + 2.0 * self.delta)
                     if sel.any():
                         off = max(off, abs(0.5 * (loc.s[sel].min() + loc.s[sel].max()) - s0))
             self._lopsided[key] = off

@@ -254,9 +254,9 @@ def set_profile_coordinates(out, side, pose, wheel):
 
 @njit(cache=True)
 def locus_at_slices(ws, ls, lphi, lgap):
-    """The rigid locus (samples ``ls`` with angles ``lphi`` and gaps ``lgap``, m; NaN: not over
-    the rail) interpolated at the mesh slices ``ws``: locus angle and gap per slice, the gap
-    +inf off the samples and where no point is over the rail. ``np.interp`` of both (a
+    """The rigid locus (samples ``ls`` with angles ``lphi`` and gaps ``lgap``, m; +inf or NaN:
+    not over the rail) interpolated at the mesh slices ``ws``: locus angle and gap per slice,
+    the gap +inf off the samples and where no point is over the rail. ``np.interp`` of both (a
     non-finite gap taken as 1 m), the two in one walk along the samples: the same bits for
     strictly increasing ``ls`` (``tests/unit/test_contact_mesh.py``), a third of the time for
     increasing ``ws``."""

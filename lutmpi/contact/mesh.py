@@ -196,15 +196,17 @@ def build_window(
     ----------
     locus : tuple of ndarray
         The rigid locus at this pose: sample profile coordinates ``s`` (m), locus angles
-        (rad) and vertical gaps (m; NaN: not over the rail), sampled every 0.1 mm; it is
-        interpolated at the mesh slices (:func:`~lutmpi.contact.kernels.locus_at_slices`:
-        window selection only, the interpolation error is a few nm of gap).
+        (rad) and vertical gaps (m; +inf, or NaN: not over the rail), sampled every 0.1 mm;
+        it is interpolated at the mesh slices (:func:`~lutmpi.contact.kernels.
+        locus_at_slices`: window selection only, the interpolation error is a few nm of gap).
     depth : float
         Keep nodes whose vertical gap to the other surface is within ``depth`` of the minimum
-        gap (m); slices are kept when their locus gap is.
+        gap (m); slices are kept when their locus gap is. Finite (else ValueError).
     full : bool
         Take every slice over the rail and a wide band of angles (the reference "full mesh").
     """
+    if not np.isfinite(depth):   # its angular half-widths would overflow an integer
+        raise ValueError(f"window depth must be finite, got {depth!r} m")
     pose = Pose(centre, R)
     ls, lphi, lgap = locus
     if not full:

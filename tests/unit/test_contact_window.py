@@ -141,3 +141,18 @@ def test_window_rail_nodes_equal_the_atan2_selection(pose):
             assert got.shape == want.shape and np.array_equal(got, want), (name, depth)
             checked += got.shape[0]
     assert checked > 1000
+
+
+@pytest.mark.parametrize("depth", [np.inf, np.nan])
+def test_a_window_depth_that_is_not_finite_is_refused(depth):
+    # an infinite depth would overflow the angular half-widths' integers and corrupt memory in
+    # the compiled node loop (a review's find); it is refused before any compiled call
+    from lutmpi.contact.mesh import build_window
+    from lutmpi.pose.mesh import rotation
+
+    scene = standard_scene()
+    rigid = scene.locus.solve(2.0 * MM, 0.01)
+    loc, sd = rigid.loci["left"], scene.side("left")
+    with pytest.raises(ValueError, match="window depth must be finite"):
+        build_window(1.0, sd.wheel_mesh, sd.rail_mesh, np.array([0.0, rigid.y, rigid.z_g]),
+                     rotation(rigid.yaw, rigid.roll), (loc.s, loc.phi, loc.gap), depth)
