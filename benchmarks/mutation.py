@@ -58,6 +58,8 @@ T_INTERP = "tests/unit/test_interp_nearest.py"
 T_NEWTON = "tests/unit/test_pose_newton.py"
 T_JUMPS = "tests/unit/test_table_jumps.py"
 T_ROOTS = "tests/unit/test_rigid_roots.py"
+T_CHECK = "tests/unit/test_check.py::test_zones_count_the_minima_the_samples_do_not_resolve"
+T_SUMS = "tests/unit/test_table_checksums.py"
 T_BATCH = ("tests/integration/test_real_solver_parity.py::"
            "test_static_split_with_multi_point_batches_equals_serial")
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
@@ -96,6 +98,15 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("lc_indent_sign", "contact methods", "lutmpi/contact/methods/load_centre.py",
       "            (WP[g, 0] - RP[g, 0]) * nwv[0]", "            (RP[g, 0] - WP[g, 0]) * nwv[0]",
       CONTACT, "eq. (7): x term of the load-centre indentation with the wrong sign"),
+    M("grid_angle_no_lower_bound", "contact methods", "lutmpi/contact/kernels.py",
+      "            if (1 <= i < sin_t.size and tan_b[i - 1] + TAN_MARGIN < t",
+      "            if (1 <= i < sin_t.size and -np.inf < t", (T_MESH,),
+      "eq. (6): a rail node's wheel angle from the series estimate checked against one of its "
+      "two half-way tangents"),
+    M("window_limit_quartered", "contact methods", "lutmpi/contact/kernels.py",
+      "np.min(gap) + depth, True, sin_t, cos_t, with_rail)",
+      "np.min(gap) + 0.25 * depth, True, sin_t, cos_t, with_rail)", (T_SUMS,),
+      "the window's nodes within a quarter of its depth of the smallest rigid gap"),
     M("intersect_ineq", "contact methods", "lutmpi/contact/kernels.py",
       "        if not v1 * nj1 + v2 * nj2 >= 0.0:\n",
       "        if False:\n", CONTACT,
@@ -253,6 +264,10 @@ MUTATIONS: tuple[Mutation, ...] = (
       "        if not edge:  # the end of the data (a knife edge) is always refined",
       "        if g > limit or not edge:", (T_ROOTS,),
       "the roll scan refines the ends of the data only within 5 mm of the smallest gap"),
+    M("zones_by_samples", "rigid roots", "lutmpi/check/regions.py",
+      "        gaps = {s: resolved_gap(rigid.loci[s]) for s in SIDES}",
+      "        gaps = {s: rigid.loci[s].gap for s in SIDES}", (T_CHECK,),
+      "lutmpi check's contact zones counted on the 0.1 mm samples' gaps, not the resolved ones"),
     # -- jump-aware tables: jumps located, refined between, followed across yaw (issue 11) -----
     M("jump_bracket_wide", "jump-aware tables", "lutmpi/table/jumps.py",
       "TOL_M = 5e-6", "TOL_M = 5e-4", (T_JUMPS,),
