@@ -104,8 +104,8 @@ MUTATIONS: tuple[Mutation, ...] = (
       "eq. (6): a rail node's wheel angle from the series estimate checked against one of its "
       "two half-way tangents"),
     M("window_limit_quartered", "contact methods", "lutmpi/contact/kernels.py",
-      "np.min(gap) + depth, True, sin_t, cos_t, with_rail)",
-      "np.min(gap) + 0.25 * depth, True, sin_t, cos_t, with_rail)", (T_SUMS,),
+      "wheel, rail, pose, np.min(gap) + depth,",
+      "wheel, rail, pose, np.min(gap) + 0.25 * depth,", (T_SUMS,),
       "the window's nodes within a quarter of its depth of the smallest rigid gap"),
     M("intersect_ineq", "contact methods", "lutmpi/contact/kernels.py",
       "        if not v1 * nj1 + v2 * nj2 >= 0.0:\n",

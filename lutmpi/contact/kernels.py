@@ -456,8 +456,7 @@ def window_nodes(side, ks, mc, mh, wheel, rail, pose, limit, filt, sin_t, cos_t,
 
 
 @njit(cache=True)
-def locus_window(side, ls, lphi, lgap, depth, h_circ, wheel, rail, pose, sin_t, cos_t,
-                 with_rail, max_nodes):
+def locus_window(side, ls, lphi, lgap, depth, h_circ, wheel, rail, pose, with_rail, max_nodes):
     """A wheel's window from its rigid locus in one call: :func:`locus_at_slices` at the mesh
     slices, :func:`window_slices` and :func:`window_nodes` (filtered, nodes within ``depth``
     of the smallest gap), as :func:`lutmpi.contact.mesh.build_window` calls them one by one
@@ -473,8 +472,8 @@ def locus_window(side, ls, lphi, lgap, depth, h_circ, wheel, rail, pose, sin_t, 
         e = np.zeros(0, dtype=np.int64)
         z = np.zeros((0, 3))
         return n_nodes, e, e, z, z, z, z
-    k, m, pts, nrm, rp, rn = window_nodes(side, ks, mc, mh, wheel, rail, pose,
-                                          np.min(gap) + depth, True, sin_t, cos_t, with_rail)
+    k, m, pts, nrm, rp, rn = window_nodes(side, ks, mc, mh, wheel, rail, pose, np.min(gap) + depth,
+                                          True, wheel.sin_t, wheel.cos_t, with_rail)
     return n_nodes, k, m, pts, nrm, rp, rn
 
 

@@ -80,16 +80,20 @@ class WheelMesh:
     def arrays(self) -> WheelArrays:
         """The grid as the compiled kernels take it."""
         w = self.wheel
-        half = int(np.ceil(np.pi / self.dphi))
         return WheelArrays(self.s, self.r, self.dr, float(w.d), float(self.dphi), self.tab_s,
                            self.tab_dr, float(w.s_min), float(w.s_max), *self.angles,
-                           angle_bounds(float(self.dphi), half))
+                           angle_bounds(float(self.dphi), self._half_turn))
+
+    @property
+    def _half_turn(self) -> int:
+        """Angle steps in half a turn (rounded up): the extent of the angle tables."""
+        return int(np.ceil(np.pi / self.dphi))
 
     @cached_property
     def angles(self) -> tuple[np.ndarray, np.ndarray]:
         """``sin`` and ``cos`` of the grid's angles over half a turn either way
         (:func:`~lutmpi.contact.kernels.angle_table`): a window's nodes look them up."""
-        return angle_table(float(self.dphi), int(np.ceil(np.pi / self.dphi)))
+        return angle_table(float(self.dphi), self._half_turn)
 
     def body_points(
         self, side: float, k: np.ndarray, m: np.ndarray
@@ -212,7 +216,7 @@ def build_window(
     if not full:
         n_nodes, k, m, pts, nrm, rp, rn = locus_window(
             side, ls, lphi, lgap, depth, wmesh.h_circ, wmesh.arrays, rmesh.arrays, pose,
-            *wmesh.angles, with_rail, MAX_WINDOW_NODES)
+            with_rail, MAX_WINDOW_NODES)
         _check_size(n_nodes, wmesh)
         return Window(side=side, k=k, m=m, body_pts=pts, body_nrm=nrm, rail_pts=rp, rail_nrm=rn)
     phi_star, gap_k = locus_at_slices(wmesh.s, ls, lphi, lgap)
