@@ -99,7 +99,7 @@ def test_readme_critical_speed(paper_table):
     """README §Dynamics: linear (Jacobian) critical speed 12.30 m/s, the classical Wickens model
     10.86 m/s, the nonlinear bisection 12.2 m/s (stable at 12.10, hunting at 12.24), 1.1 % apart
     (12.35 / 10.90 / 12.16-12.29 before the refinement's knots came to lie at least 5 um apart:
-    the table's Delta r within 0.1 mm of the centre moved; 12.37 / 10.91 / 12.18-12.32 before the rigid contacts were placed on the resampled locus
+    with those knots the build chose PCHIP for the rolling radius, now linear; 12.37 / 10.91 / 12.18-12.32 before the rigid contacts were placed on the resampled locus
     minimum and every minimum within 5 mm was resampled: the load centre's rigid start moved, its
     z_g by up to 0.5 um; 12.35 / 10.90 before the locus resolved its gap minimum between samples:
     the reference's
