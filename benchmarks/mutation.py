@@ -279,6 +279,9 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("refine_rr_loose", "jump-aware tables", "lutmpi/table/jumps.py",
       "REFINE_TOL = {D.rolling_radius: 1e-6,", "REFINE_TOL = {D.rolling_radius: 1e-4,",
       (T_JUMPS,), "refinement between jumps to 0.1 mm of rolling radius instead of 1 µm"),
+    M("refine_floor_coarse", "jump-aware tables", "lutmpi/table/jumps.py",
+      "MIN_WIDTH_M = TOL_M\n", "MIN_WIDTH_M = 40 * TOL_M\n", (T_JUMPS,),
+      "refinement stops at 0.2 mm knot spacing instead of a jump's 5 µm bracket"),
     M("pair_by_count", "jump-aware tables", "lutmpi/table/interp.py",
       "    if (na == nb and np.array_equal(sa, sb) and np.array_equal(a_near, np.arange(na))\n"
       "            and np.array_equal(b_near, np.arange(nb))):\n",
