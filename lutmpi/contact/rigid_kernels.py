@@ -392,6 +392,12 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
                      PZ, False)
     if ib < 0:
         return h
+    # the smallest coarse sample's own gap, not the parabola through it and its neighbours:
+    # 1 mm apart on a worn flange's corner the parabola dips 7 mm below every sample, and the
+    # refined runs below can only raise the height (a worn flange thinned by 1.5 mm, y = -1 mm,
+    # yaw 0.06 rad: the scan's h 8 mm off, the pose's roots missed: a no_contact hole). The run
+    # around this sample is always refined, so the height is the samples' own
+    h = -gap[ib]
     step = idx[1] - idx[0] if idx.size > 1 else 1
     limit = gap[ib] + SCAN_BAND
     n = idx.size
@@ -938,7 +944,10 @@ def local_root(y, yaw, xtol, max_secant, lever, left, right):
     on the whole profiles (solved again, at most three times, where the minimum moved: a
     contact jump). Returns ``(roll, calls, status, full)`` (:data:`LOCAL_OK` ...) with
     ``full`` the :func:`full_locus` of the whole profiles at ``roll`` when the status is
-    :data:`LOCAL_OK` (the check computed it; the pose's result reuses it)."""
+    :data:`LOCAL_OK` (the check computed it; the pose's result reuses it). A root whose check
+    fails three times is :data:`LOCAL_NONE`: it is a root of the candidate samples only (a worn
+    flange thinned by 1.5 mm, y = -0.9 mm, yaw 0.06 rad: 4.1 mm of height mismatch on the whole
+    profiles there, stored as a converged root until 2026-11-25)."""
     all_l, all_r = np.arange(left[0].size), np.arange(right[0].size)
     gl, gr = np.empty(all_l.size), np.empty(all_r.size)
     calls = 1
@@ -961,5 +970,7 @@ def local_root(y, yaw, xtol, max_secant, lever, left, right):
         gl, fl, gr, fr = full[1], full[2], full[5], full[6]
         calls += 2
         if abs(pl - fl) <= LOCAL_CHECK and abs(pr - fr) <= LOCAL_CHECK:
-            break
-    return roll, calls, LOCAL_OK, full
+            return roll, calls, LOCAL_OK, full
+    # the whole profiles disagreed at every root (the minima moved each time: the iteration
+    # jumps between contacts): no checked root, the scan decides
+    return roll, calls, LOCAL_NONE, _no_locus()

@@ -99,12 +99,12 @@ def test_readme_critical_speed(paper_table):
     """README §Dynamics: linear (Jacobian) critical speed 12.30 m/s, the classical Wickens model
     10.86 m/s, the nonlinear bisection 12.2 m/s (stable at 12.10, hunting at 12.24), 1.1 % apart
     (12.35 / 10.90 / 12.16-12.29 before the refinement's knots came to lie at least 5 um apart:
-    with those knots the build chose PCHIP for the rolling radius, now linear; 12.37 / 10.91 / 12.18-12.32 before the rigid contacts were placed on the resampled locus
-    minimum and every minimum within 5 mm was resampled: the load centre's rigid start moved, its
-    z_g by up to 0.5 um; 12.35 / 10.90 before the locus resolved its gap minimum between samples:
-    the reference's
-    flange contacts moved by up to 1.7 um of z_g; 12.30 / 10.86 before the gauge point was solved
-    on the rail's own curve, 0.4 um away)
+    with those knots the build chose PCHIP for the rolling radius, now linear; 12.37 / 10.91 /
+    12.18-12.32 before the rigid contacts were placed on the resampled locus minimum and every
+    minimum within 5 mm was resampled: the load centre's rigid start moved, its z_g by up to
+    0.5 um; 12.35 / 10.90 before the locus resolved its gap minimum between samples: the
+    reference's flange contacts moved by up to 1.7 um of z_g; 12.30 / 10.86 before the gauge
+    point was solved on the rail's own curve, 0.4 um away)
     (re-measured on the jump-aware table of issue 11: 12.15 / 10.5 / 12.4 on the bilinear one;
     12.29 / 10.85 before the refinement stopped at the mesh's step, issue 14).
     Physics: the bisection's bracket must straddle its own midpoint and agree with the

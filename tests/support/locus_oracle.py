@@ -69,8 +69,8 @@ def local_root(solver: LocusSolver, y: float, yaw: float, xtol: float = 1e-13,
         full = st.heights(roll)
         st.nit += 2
         if abs(part[0] - full[0]) <= 1e-12 and abs(part[1] - full[1]) <= 1e-12:
-            break
-    return roll, st.nit
+            return roll, st.nit
+    return None, st.nit   # no check passed: a root of the candidate samples only
 
 
 def _secant(solver, h, roll0: float, xtol: float, max_secant: int) -> float | None:

@@ -650,3 +650,52 @@ def test_a_resampled_flange_contact_lies_where_the_wheel_touches(y_mm, yaw):
     (c,) = rig.contacts["right"]
     assert abs(g) < 0.01e-6 and abs(c.gap) < 1e-9
     assert abs(c.s - s) < 5e-6, (c.s / MM, s / MM)
+
+
+# -- a worn flange thinned by 1.5 mm on a worn rail (a hostile tester's find, 2026-11-25) -------
+def _worn_thinned_scene(tmp_path) -> Scene:
+    from lutmpi.config import load_config
+
+    cfg = tmp_path / "worn.toml"
+    cfg.write_text(f'[wheel]\nprofile = "{PROFILES / "whl_left_iter288.whl"}"\n'
+                   f'[rail]\nprofile = "{PROFILES / "rail_left_iter288.ban"}"\n'
+                   'inclination = "none"\n[wear.wheel]\nflange_thinning_mm = 1.5\n')
+    return Scene.from_config(load_config(cfg))
+
+
+@pytest.mark.parametrize("y_mm, yaw", [(-0.9, 0.06), (-1.0, 0.06), (-1.0, 0.12)])
+def test_a_thinned_worn_flange_gets_the_root_the_wheel_surface_confirms(tmp_path, y_mm, yaw):
+    """The measured worn wheel ``whl_left_iter288.whl`` with its flange thinned by 1.5 mm on the
+    worn rail ``rail_left_iter288.ban`` (both sides alike). Before the fix: at (-0.9 mm, 0.06
+    rad) the local solve's secant jumped between two contacts, its check on the whole profiles
+    failed three times, and its root was returned anyway: stored as converged with the wheels
+    4.1 mm apart in height (z_g 6.6 mm low, the roll of the wrong sign); at (-1.0 mm, 0.06 rad)
+    the coarse scan's parabola dipped 8 mm below its samples on the flange corner, the scan
+    missed the pose's roots and it was a no_contact hole; at (-1.0 mm, 0.12 rad) the left flange
+    was chosen on a non-root (the right wheel 2.8 mm inside its rail). Checked against the
+    brute-force search over the wheel surface (no locus): both wheels touch their rails to
+    0.2 um at the stored pose, and the mirror pose is its mirror."""
+    sc = _worn_thinned_scene(tmp_path)
+    y = y_mm * MM
+    rig = sc.locus.solve(y, yaw)
+    assert rig.success, rig.message
+    for name in ("left", "right"):
+        g = _surface_min(sc, name, y, yaw, rig.roll, rig.z_g)[0]
+        assert abs(g) < 0.2e-6, f"{name}: {g * 1e6:+.3f} um"
+    mirror = sc.locus.solve(-y, -yaw)
+    assert abs(mirror.z_g - rig.z_g) < 1e-12 and abs(mirror.roll + rig.roll) < 1e-12
+    assert solve_pose(sc, y, yaw, "reference").status == CONVERGED
+
+
+def test_the_roll_scan_gives_the_whole_profiles_height_mismatch(tmp_path):
+    """The roll scan (coarse samples, refined around their minima) against the height mismatch
+    on every sample, on the thinned worn flange at (-1 mm, 0.06 rad) over the roll range where
+    its roots lie: equal to 1 um (it was 8 mm off on the flange's corner, where the parabola
+    through three coarse samples dips far below them)."""
+    sc = _worn_thinned_scene(tmp_path)
+    L = sc.locus
+    y, yaw = -1.0 * MM, 0.06
+    rolls = np.arange(-0.014, 0.0, 0.0005)
+    full = np.array([L._h(y, yaw, float(r)) for r in rolls])
+    assert np.all(np.isfinite(full)) and np.any(full > 0) and np.any(full < 0)
+    np.testing.assert_allclose(L.scan(y, yaw, rolls), full, rtol=0.0, atol=1e-6)
