@@ -31,12 +31,14 @@ def register(subparsers: Any) -> None:
 
 def run(args: Any) -> int:
     from lutmpi.config import load_config
-    from lutmpi.contact.poses import read_poses
+    from lutmpi.contact.poses import check_pose, read_poses
     from lutmpi.pose.solve import solve_pose
     from lutmpi.scene import Scene
 
     poses = read_poses(args.poses) if args.poses else []
-    poses += [(y * 1e-3, yaw) for y, yaw in args.pose]
+    for k, (y, yaw) in enumerate(args.pose):
+        check_pose(y, yaw, f"--pose number {k + 1}")
+        poses.append((y * 1e-3, yaw))
     if not poses:
         raise ConfigError("no poses: give --poses FILE.csv or --pose Y_MM YAW_RAD")
     cfg = load_config(args.config)

@@ -9,6 +9,18 @@ from pathlib import Path
 
 from lutmpi.errors import ConfigError
 
+#: the largest |y_g| (mm) and |yaw| (rad) a pose may have: the config's grid limits
+Y_MAX_MM, YAW_MAX_RAD = 100.0, 0.5
+
+
+def check_pose(y_mm: float, yaw: float, where: str, path: str | None = None) -> None:
+    """Raise :class:`ConfigError` naming ``where`` (a file line, a command-line option) when a
+    pose is not finite or lies beyond :data:`Y_MAX_MM` / :data:`YAW_MAX_RAD`."""
+    if not (math.isfinite(y_mm) and math.isfinite(yaw)) or abs(y_mm) > Y_MAX_MM \
+            or abs(yaw) > YAW_MAX_RAD:
+        raise ConfigError(f"{where}: pose out of range (|y| <= {Y_MAX_MM:g} mm, |yaw| <= "
+                          f"{YAW_MAX_RAD:g} rad), got y_mm={y_mm}, yaw_rad={yaw}", path=path)
+
 
 def read_poses(path: str | Path) -> list[tuple[float, float]]:
     """Poses (y in m, yaw in rad) from a CSV with columns ``y_mm,yaw_rad`` (any order, more
@@ -36,9 +48,7 @@ def read_poses(path: str | Path) -> list[tuple[float, float]]:
         except (ValueError, IndexError):
             raise ConfigError(f"line {line}: expected two numbers y_mm, yaw_rad, got {r}",
                               path=path) from None
-        if not (math.isfinite(y) and math.isfinite(yaw)) or abs(y) > 100 or abs(yaw) > 0.5:
-            raise ConfigError(f"line {line}: pose out of range (|y| <= 100 mm, |yaw| <= 0.5 rad),"
-                              f" got y_mm={y}, yaw_rad={yaw}", path=path)
+        check_pose(y, yaw, f"line {line}", path)
         out.append((y * 1e-3, yaw))
     if not out:
         raise ConfigError("the file has a header but no poses", path=path)

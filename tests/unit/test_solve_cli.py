@@ -59,3 +59,20 @@ def test_bad_pose_files_name_file_and_line(tmp_path, text, match):
 def test_missing_pose_file_is_a_clear_error(tmp_path):
     rc = main(["solve", str(CONFIG), "--poses", str(tmp_path / "nope.csv")])
     assert rc == 1
+
+
+@pytest.mark.parametrize("command", ["solve", "query"])
+@pytest.mark.parametrize("pose, shown", [(("nan", "0"), "y_mm=nan"),
+                                         (("0", "1.2"), "yaw_rad=1.2"),
+                                         (("150", "0"), "y_mm=150")])
+def test_a_bad_command_line_pose_is_an_error_naming_it(tmp_path, capsys, command, pose, shown):
+    """``--pose`` values are checked as a poses file's are (a hostile tester's find: a NaN pose
+    or a yaw of 1.2 rad came back as a ``no_contact`` row): exit 1, the option and the value
+    named, nothing written."""
+    out = tmp_path / "o.csv"
+    source = str(CONFIG) if command == "solve" else str(tmp_path / "t.h5")
+    rc = main([command, source, "--pose", "1", "0", "--pose", *pose, "-o", str(out)])
+    assert rc == 1
+    err = capsys.readouterr().err
+    assert "--pose number 2" in err and shown in err and "out of range" in err
+    assert not out.exists()
