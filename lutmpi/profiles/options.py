@@ -48,6 +48,7 @@ def apply_options(raw: RawProfile, opts: ReadOptions | None, path: str) -> RawPr
                                path=path)
         if opts.flip_y:
             y = -y
+            _check_mirrored_cant(raw, y, z, path)
         if opts.flip_z:
             z = -z
         if opts.origin == "flange_back":
@@ -62,6 +63,26 @@ def apply_options(raw: RawProfile, opts: ReadOptions | None, path: str) -> RawPr
     if opts is not None and opts != ReadOptions():
         meta["read_options"] = {k: v for k, v in opts.__dict__.items()}
     return replace(raw, y_mm=y, z_mm=z, meta=meta)
+
+
+def _check_mirrored_cant(raw: RawProfile, y: np.ndarray, z: np.ndarray, path: str) -> None:
+    """Refuse ``flip_y`` on a rail whose file says its data are canted and whose mirrored head
+    leans outward (its flanks, :func:`~lutmpi.profiles.simpack.estimate_cant_from_flanks`): no
+    track cants its rails outward, and lutmpi would place the mirrored head as it is (the
+    Manchester ``.prr`` with ``flip_y``: canted 1:40 outward, z_g 0.6 mm off, accepted silently
+    before; a hostile tester's find)."""
+    cant = getattr(raw, "cant_rad", None)
+    if raw.kind != "rail" or cant is None or not cant > 0.0:
+        return
+    from lutmpi.profiles.simpack import estimate_cant_from_flanks
+
+    est = estimate_cant_from_flanks(y, z)
+    if est is not None and est < -0.5 * cant:
+        raise ProfileError(
+            f"flip_y mirrors a rail whose data the file gives canted inward by {cant:.4f} rad: "
+            f"mirrored, its head leans outward (its flanks give {est:.4f} rad). Leave flip_y "
+            "out when the file's lateral axis already points away from the track centre",
+            path=path)
 
 
 def _value_at_zero(y: np.ndarray, z: np.ndarray, path: str) -> float:

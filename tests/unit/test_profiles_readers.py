@@ -345,3 +345,18 @@ def test_format_override_and_sniffing(tmp_path: Path, profiles_dir: Path):
 
 def test_missing_file(tmp_path: Path):
     _raises_at(tmp_path / "nope.prw", None, "not found")
+
+
+def test_a_mirrored_canted_rail_is_refused_and_the_file_as_given_is_read():
+    """``flip_y`` on the Manchester ``.prr``, whose comment says its data are canted 1:40: the
+    mirrored head leans outward by 1:40 (its flanks), which no track has, and lutmpi would place
+    it so (z_g 0.6 mm off; accepted silently before, a hostile tester's find). Refused, naming
+    the file and both cants; the same file unflipped reads with its 1:40."""
+    from lutmpi.profiles.options import ReadOptions
+
+    prr = REPO_ROOT / "profiles" / "MBench_UIC60_v3.prr"
+    with pytest.raises(ProfileError, match=r"flip_y .* canted inward by 0\.0250 rad.*-0\.025")\
+            as exc:
+        read_profile(prr, kind="rail", options=ReadOptions(flip_y=True))
+    assert str(prr) in str(exc.value)
+    assert read_profile(prr, kind="rail").cant_rad == pytest.approx(math.atan(1 / 40), abs=1e-4)
