@@ -71,7 +71,7 @@ def _check_mirrored_cant(raw: RawProfile, y: np.ndarray, z: np.ndarray, path: st
     track cants its rails outward, and lutmpi would place the mirrored head as it is (the
     Manchester ``.prr`` with ``flip_y``: canted 1:40 outward, z_g 0.6 mm off, accepted silently
     before; a hostile tester's find)."""
-    cant = getattr(raw, "cant_rad", None)
+    cant = raw.cant_rad
     if raw.kind != "rail" or cant is None or not cant > 0.0:
         return
     from lutmpi.profiles.simpack import estimate_cant_from_flanks

@@ -690,15 +690,15 @@ def test_a_thinned_worn_flange_gets_the_root_the_wheel_surface_confirms(tmp_path
 def test_the_roll_scan_gives_the_whole_profiles_height_mismatch(tmp_path):
     """The roll scan (coarse samples, refined around their minima) against the height mismatch
     on every sample, on the thinned worn flange at (-1 mm, 0.06 rad) over the roll range where
-    its roots lie: equal to 1 um (it was 8 mm off on the flange's corner, where the parabola
-    through three coarse samples dips far below them)."""
+    its roots lie: equal to 1 nm (measured: to the bit; it was 8 mm off on the flange's corner,
+    where the parabola through three coarse samples dips far below them)."""
     sc = _worn_thinned_scene(tmp_path)
     L = sc.locus
     y, yaw = -1.0 * MM, 0.06
     rolls = np.arange(-0.014, 0.0, 0.0005)
     full = np.array([L._h(y, yaw, float(r)) for r in rolls])
     assert np.all(np.isfinite(full)) and np.any(full > 0) and np.any(full < 0)
-    np.testing.assert_allclose(L.scan(y, yaw, rolls), full, rtol=0.0, atol=1e-6)
+    np.testing.assert_allclose(L.scan(y, yaw, rolls), full, rtol=0.0, atol=1e-9)
 
 
 def test_the_local_solve_gives_only_roots_of_the_whole_profiles(tmp_path):
