@@ -65,8 +65,9 @@ REFINE_TOL = {D.rolling_radius: 1e-6, D.contact_angle: 1e-4, D.z_g: 2e-6, D.roll
 #: narrowest knot spacing the refinement makes (m): the width of a jump's bracket, within which
 #: the table cannot say where its jump lies, so finer knots next to a jump resolve nothing it
 #: can place. At 1 um, on the Manchester table (load centre, 37 x 9), a sixth of the step's
-#: solves went into intervals narrower than 10 um, half of them within 14 um of a jump; the
-#: 1-D tables between their points did not get better for them (BENCHMARKS.md, 2026-11-25)
+#: solves went into intervals narrower than 10 um, half of them within 14 um of a jump;
+#: without them the 1-D tables between their points are unchanged (load centre) or within
+#: 0.22 um of direct solves instead of 0.08 um (reference) (BENCHMARKS.md, 2026-11-25)
 MIN_WIDTH_M = TOL_M
 #: a child interval is refined further only if its miss fell below this fraction of its parent's
 #: (a smooth function: 1/4 per halving, a kink: 1/2, a square-root onset next to a jump: 0.71;
