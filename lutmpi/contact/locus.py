@@ -131,6 +131,9 @@ class RigidSolution:
     n_roots: int = 0
     roots: tuple[RigidRoot, ...] = ()
     at_end: bool = False
+    #: end circles of the wheels' data that reach into the rail off the locus
+    #: (:meth:`LocusSolver.rim_check`): ``(side, s, phi, gap)`` each, m, rad, m (gap < 0)
+    rim: tuple[tuple[str, float, float, float], ...] = ()
 
 
 SCAN_DS = 1e-3  # m, wheel sample spacing of the roll scan
@@ -140,6 +143,10 @@ MAX_SHIFT = 8  # steps a coarse bracket may move (4 mrad: independent of the sca
 MEMO_SIZE = 8  # rigid solutions kept per solver
 ROLL_MARGIN = 1e-2  # rad, added to the geometric roll bound (locus angles under yaw)
 DIP_XTOL = 1e-7  # rad, tolerance of the extremum search between two scan points
+#: m: an end circle of a wheel's data whose smallest gap to the rail lies further below zero
+#: than this at the chosen root reaches into the rail off the locus (:meth:`LocusSolver.
+#: rim_check`); the root is then no contact of the surfaces the data describe
+RIM_TOL = 1e-6
 
 
 # -- one side ----------------------------------------------------------------------------------
@@ -154,6 +161,8 @@ class LocusSide:
     samp: LocusSampling
     coarse: np.ndarray  # sample indices of the roll scan (every SCAN_DS)
     lim: np.ndarray  # (u0, du, u_min, u_max) of the rail's height table
+    ends: np.ndarray  # (2, 2): (s, r) of the circles at the ends of the wheel's data, m
+    zmax: float  # the rail's highest point over its data, m
 
     @classmethod
     def build(cls, name: str, wheel: WheelGeometry, rail: PlacedRail, ds: float) -> LocusSide:
@@ -163,7 +172,10 @@ class LocusSide:
         return cls(name=name, sign=SIDES[name], wheel=wheel, rail=rail, samp=samp,
                    coarse=np.unique(np.append(np.arange(0, samp.s.size, step),
                                               samp.s.size - 1)).astype(np.int64),
-                   lim=np.array([u0, du, rail.u_min, rail.u_max]))
+                   lim=np.array([u0, du, rail.u_min, rail.u_max]),
+                   ends=np.array([[s, float(wheel.radius(s))]
+                                  for s in (wheel.s_min, wheel.s_max)]),
+                   zmax=float(np.max(rail.height_table[2])))
 
     @property
     def local_args(self) -> tuple:
@@ -249,6 +261,8 @@ class LocusSolver:
         self._loci: dict[tuple[float, float, float], tuple] = {}
         self._scan_sides = tuple(self.sides[name].scan_args for name in SIDES)
         self._local_sides = tuple(self.sides[name].local_args for name in SIDES)
+        self._ends = np.array([[(s, r, self.sides[name].zmax) for s, r in self.sides[name].ends]
+                               for name in SIDES])
 
     def _roll_bound(self) -> float:
         """Admissible roll range. At a root both wheels touch, so
@@ -393,10 +407,7 @@ class LocusSolver:
         out = self.finish(y, yaw, roll, nit)
         out.n_roots = len(roots)
         out.roots = tuple(roots)
-        out.at_end = any(c.at_end for cs in out.contacts.values() for c in cs)
-        if out.at_end:
-            out.message = "a contact lies on the end of a profile's data"
-        return out
+        return self._mark_ends(out)
 
     def _root_in(self, y, yaw, a, b, stable, local, xtol) -> float | None:
         """The root of a coarse bracket on the full samples. The coarse samples can misplace a
@@ -453,7 +464,30 @@ class LocusSolver:
         out = self.finish(y, yaw, 0.0, 1, z_g=max(zl, zr))
         out.n_roots = 1
         out.roots = (RigidRoot(roll=0.0, z_g=out.z_g, stable=True, at_end=False),)
-        out.at_end = any(c.at_end for cs in out.contacts.values() for c in cs)
+        return self._mark_ends(out)
+
+    def rim_check(self, y: float, yaw: float, roll: float, z_g: float
+                  ) -> tuple[tuple[str, float, float, float], ...]:
+        """The end circles of the wheels' data (the surfaces' edges) that reach more than
+        :data:`RIM_TOL` into the rail at this pose: ``(side, s, phi, gap)`` each (m, rad, m).
+        The locus holds only the points where a wheel's surface can touch an extruded rail
+        (its normal across x); an edge can touch it anywhere on its circle: at a yaw far beyond
+        running the field-side rim passes through the rail while the locus sees a contact
+        (:func:`~lutmpi.contact.rigid_kernels.end_circle_gap`)."""
+        gaps = rk.rim_gaps(float(y), float(yaw), float(roll), float(z_g), *self._local_sides,
+                           self._ends)
+        if not (gaps[:, :, 0] < -RIM_TOL).any():
+            return ()
+        return tuple((name, float(self._ends[k, e, 0]), float(gaps[k, e, 1]),
+                      float(gaps[k, e, 0]))
+                     for k, name in enumerate(self.sides) for e in range(2)
+                     if gaps[k, e, 0] < -RIM_TOL)
+
+    def _mark_ends(self, out: RigidSolution) -> RigidSolution:
+        """``at_end`` and the message of a chosen root: a contact on the end of a profile's
+        data, or an end circle through the rail (:meth:`rim_check`)."""
+        out.rim = self.rim_check(out.y, out.yaw, out.roll, out.z_g)
+        out.at_end = bool(out.rim) or any(c.at_end for cs in out.contacts.values() for c in cs)
         if out.at_end:
             out.message = "a contact lies on the end of a profile's data"
         return out

@@ -323,6 +323,98 @@ def full_locus(y, yaw, roll, left, right):
     return phl, gpl, zl, il, phr, gpr, zr, ir
 
 
+#: arc length (m) between the samples of an end circle's angle (:func:`end_circle_gap`)
+END_ARC = 1e-3
+#: golden-section steps refining an end circle's smallest sample (its bracket of two sample
+#: steps shrinks to 0.618 ** 40 ~ 4e-9 of that: well below a nanometre of gap)
+END_GOLDEN = 40
+
+
+@njit(cache=True, inline="always")
+def _circle_gap(phi, sgn, s, r, d, R, y, z_g, u0, du, tabz, u_min, u_max):
+    """Vertical gap (m) of the point at angle ``phi`` of the wheel circle ``(s, r)`` (G at
+    height ``z_g``) to the rail; +inf off the rail's data."""
+    bx, by, bz = r * np.sin(phi), sgn * (d + s), -r * np.cos(phi)
+    u = sgn * (R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz + y)
+    if not (u >= u_min and u <= u_max):
+        return np.inf
+    f = (u - u0) / du
+    j = min(max(int(f), 0), tabz.size - 2)
+    t = f - j
+    return (R[2, 0] * bx + R[2, 1] * by + R[2, 2] * bz + z_g
+            - (tabz[j] + t * (tabz[j + 1] - tabz[j])))
+
+
+@njit(cache=True)
+def end_circle_gap(sgn, s, r, d, R, y, z_g, u0, du, tabz, u_min, u_max, zmax):
+    """Smallest vertical gap (m) over the whole circle ``(s, r)`` of one wheel (G at height
+    ``z_g``) to its rail, and its angle (rad): ``(+inf, NaN)`` where no point of the circle is
+    below the rail's highest point ``zmax`` over its data.
+
+    The contact locus holds the one point of each circle where the wheel's surface can touch
+    an extruded rail (its normal has no component along x); the circle at the end of a wheel's
+    data is the surface's edge, which can touch the rail anywhere on it. With ``phi = 0`` the
+    circle's lowest point, ``p_z = z_g + sin(roll) b_y - cos(roll) r cos(phi)``, so only
+    ``cos(phi) >= c0`` can reach down to ``zmax``; where that arc's lateral reach meets the
+    rail's data, it is sampled every :data:`END_ARC` of length and its smallest sample
+    refined by golden section (:data:`END_GOLDEN` steps)."""
+    by = sgn * (d + s)
+    c0 = (z_g + R[2, 1] * by - zmax) / (R[2, 2] * r)
+    if c0 > 1.0:
+        return np.inf, np.nan
+    half = np.arccos(max(c0, -1.0))
+    # u = sgn (y + R11 b_y + r (R10 sin(phi) - R12 cos(phi))): the arc's lateral reach
+    uc = sgn * (y + R[1, 1] * by)
+    reach = r * (abs(R[1, 0]) * np.sin(min(half, 0.5 * np.pi)) + abs(R[1, 2]))
+    if uc + reach < u_min or uc - reach > u_max:
+        return np.inf, np.nan
+    n = int(np.ceil(2.0 * half * r / END_ARC)) + 1
+    step = 2.0 * half / (n - 1) if n > 1 else 0.0
+    best, qb = np.inf, -1
+    for q in range(n):
+        g = _circle_gap(-half + q * step, sgn, s, r, d, R, y, z_g, u0, du, tabz, u_min, u_max)
+        if g < best:
+            best, qb = g, q
+    if qb < 0:
+        return np.inf, np.nan
+    a, b = -half + max(qb - 1, 0) * step, -half + min(qb + 1, n - 1) * step
+    phib = -half + qb * step
+    k = 0.5 * (np.sqrt(5.0) - 1.0)
+    x1, x2 = b - k * (b - a), a + k * (b - a)
+    f1 = _circle_gap(x1, sgn, s, r, d, R, y, z_g, u0, du, tabz, u_min, u_max)
+    f2 = _circle_gap(x2, sgn, s, r, d, R, y, z_g, u0, du, tabz, u_min, u_max)
+    for _ in range(END_GOLDEN):
+        if f1 <= f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - k * (b - a)
+            f1 = _circle_gap(x1, sgn, s, r, d, R, y, z_g, u0, du, tabz, u_min, u_max)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + k * (b - a)
+            f2 = _circle_gap(x2, sgn, s, r, d, R, y, z_g, u0, du, tabz, u_min, u_max)
+    for x, f in ((x1, f1), (x2, f2)):
+        if f < best:
+            best, phib = f, x
+    return best, phib
+
+
+@njit(cache=True)
+def rim_gaps(y, yaw, roll, z_g, left, right, ends):
+    """:func:`end_circle_gap` of both end circles of both wheels in one call: ``ends[k, e]``
+    ``(s, r, zmax)`` of side ``k`` (left, right) and end ``e``; ``left``/``right`` as
+    :func:`full_locus`'s. Returns ``out[k, e] = (gap, phi)``."""
+    R = rotation(yaw, roll)
+    out = np.empty((2, 2, 2))
+    for k in range(2):
+        s, r, dr, d, tab, lim = left if k == 0 else right
+        sgn = 1.0 if k == 0 else -1.0
+        for e in range(2):
+            out[k, e, 0], out[k, e, 1] = end_circle_gap(
+                sgn, ends[k, e, 0], ends[k, e, 1], d, R, y, z_g, lim[0], lim[1], tab, lim[2],
+                lim[3], ends[k, e, 2])
+    return out
+
+
 @njit(cache=True)
 def contact_minima(gap, double_tol, max_contacts):
     """Sample indices of the contact(s) of one wheel's locus gaps ``gap`` (m): the global

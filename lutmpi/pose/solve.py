@@ -9,6 +9,7 @@ raised.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from typing import Any
@@ -82,4 +83,8 @@ def warm(scene, method: str) -> None:
 def _end_text(rigid: RigidSolution) -> str:
     ends = [f"{name} wheel s = {c.s * 1e3:.2f} mm" for name, cs in rigid.contacts.items()
             for c in cs if c.at_end]
-    return "contact at the end of the data: " + ", ".join(ends)
+    rims = [f"the {name} wheel's end circle (s = {s * 1e3:.2f} mm, the edge of its data) "
+            f"{-g * 1e3:.3f} mm into the rail at {phi * 180 / math.pi:+.1f} deg from its lowest "
+            "point, off the contact locus" for name, s, phi, g in rigid.rim]
+    parts = (["contact at the end of the data: " + ", ".join(ends)] if ends else []) + rims
+    return "; ".join(parts)

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from lutmpi.config.load import load_config
 from lutmpi.contact import rigid_kernels as rk
 from lutmpi.contact.locus import DIP_XTOL, _edge_by, _extremum_by, find_brackets
 from lutmpi.contact.rigid_kernels import bounded_min, edge_bisect
@@ -33,6 +34,7 @@ from tests.support.surface import surface_min as _surface_min
 
 MM = 1e-3
 PROFILES = Path(__file__).resolve().parents[2] / "profiles"
+CONFIGS = PROFILES.parent / "configs"
 GRID = np.linspace(-0.05, 0.05, 201)  # the solver's scan step, 0.5 mrad
 
 
@@ -715,3 +717,75 @@ def test_the_local_solve_gives_only_roots_of_the_whole_profiles(tmp_path):
             found += 1
             assert abs(L._h(float(y), 0.06, roll)) < 1e-9, (y / MM, roll)
     assert found >= 15   # the check is exercised, not skipped by the solve
+
+
+# -- the end circles of a wheel's data (the surfaces' edges) ----------------------------------
+def _end_circle_min(scene: Scene, name: str, s: float, y: float, yaw: float, roll: float,
+                    z: float) -> float:
+    """Smallest vertical gap (m) of the wheel circle at ``s`` to the rail's spline, by numpy
+    over the circle's lower half every 10 urad, then every 10 nrad around the smallest."""
+    sd = scene.side(name)
+    w, rail, side = sd.wheel, sd.rail, sd.sign
+    R = rk.rotation(yaw, roll)
+    r = float(w.radius(s))
+
+    def gaps(phi):
+        bx, by, bz = r * np.sin(phi), side * (w.d + s), -r * np.cos(phi)
+        u = side * (y + R[1, 0] * bx + R[1, 1] * by + R[1, 2] * bz)
+        pz = z + R[2, 1] * by + R[2, 2] * bz
+        ok = (u >= rail.u_min) & (u <= rail.u_max)
+        return np.where(ok, pz - rail.height(np.clip(u, rail.u_min, rail.u_max)), np.inf)
+
+    phi = np.linspace(-0.5 * np.pi, 0.5 * np.pi, 314_160)
+    g = gaps(phi)
+    k = int(np.argmin(g))
+    return float(gaps(np.linspace(phi[k] - 1e-5, phi[k] + 1e-5, 2001)).min())
+
+
+@pytest.mark.parametrize(("y_mm", "yaw", "edge"), [(-10.0, 0.42, True), (-10.0, 0.45, True),
+                                                  (-10.0, 0.38, False), (5.0, 0.1, False)])
+def test_a_rim_through_the_rail_off_the_locus_is_profile_end(y_mm, yaw, edge):
+    # S1002 on the Manchester UIC60 1:40 (configs/): from a yaw of 0.42 rad the locus finds a
+    # root 23 mm lower than at 0.38 rad, with the field-side rim ~49 mm inside the rail (a
+    # hostile tester's find). The smallest gap of every end circle, by a dense search of the
+    # whole circle against the rail's spline, says which poses are contacts of the surfaces.
+    scene = Scene.from_config(load_config(CONFIGS / "manchester_s1002_uic60_1in40.toml"))
+    y = y_mm * MM
+    rig = scene.locus.solve(y, yaw)
+    assert rig.success
+    deepest = min(_end_circle_min(scene, name, s, y, yaw, rig.roll, rig.z_g)
+                  for name in ("left", "right")
+                  for s in (scene.side(name).wheel.s_min, scene.side(name).wheel.s_max))
+    assert (deepest < -1e-3) == edge, deepest
+    found = {(name, s): g for name, s, _, g in rig.rim}
+    if edge:
+        assert min(found.values()) == pytest.approx(deepest, abs=1e-6)
+        r = solve_pose(scene, y, yaw, "reference")
+        assert r.status == PROFILE_END and not r.success
+        assert "end circle" in r.message and "into the rail" in r.message
+    else:
+        assert not found and deepest > 0.0
+        assert solve_pose(scene, y, yaw, "reference").status == CONVERGED
+
+
+def test_the_end_circle_kernel_finds_every_penetration_a_dense_search_finds():
+    # random poses (G anywhere from 70 to 0 mm below the wheel's resting height, any yaw up
+    # to 0.5 rad): wherever the dense search finds an end circle below the rail, the compiled
+    # one (arc window, lateral reach, 1 mm samples, golden section) finds the same depth
+    scene = Scene.from_config(load_config(CONFIGS / "manchester_s1002_uic60_1in40.toml"))
+    L = scene.locus
+    rng = np.random.default_rng(1)
+    seen = 0
+    for _ in range(60):
+        y, yaw = rng.uniform(-0.02, 0.02), rng.uniform(-0.5, 0.5)
+        roll, z = rng.uniform(-0.05, 0.05), rng.uniform(0.40, 0.47)
+        got = rk.rim_gaps(y, yaw, roll, z, *L._local_sides, L._ends)
+        for k, name in enumerate(("left", "right")):
+            for e in range(2):
+                want = _end_circle_min(scene, name, L._ends[k, e, 0], y, yaw, roll, z)
+                if want < 0.0:
+                    seen += 1
+                    assert got[k, e, 0] == pytest.approx(want, abs=1e-7), (y, yaw, roll, z)
+                else:
+                    assert not got[k, e, 0] < -1e-7
+    assert seen > 50
