@@ -22,6 +22,10 @@ the like-for-like figure; the jump step solves ~12x the grid's poses to locate a
 contact jumps, which no grid-only solver does), and the numpy solver's deviation from the
 table's z_g and roll (a sanity check that it solves the same problem: a few µm, its angular
 grid).
+
+``--grid-only`` also builds the config with ``[output] jumps = false`` (the table of the grid's
+points only, what a tool that reads the grid and interpolates by itself needs) in each round and
+prints its whole command's ratio.
 """
 
 from __future__ import annotations
@@ -130,6 +134,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config")
     ap.add_argument("--repeat", type=int, default=1, help="take the best of this many runs")
+    ap.add_argument("--grid-only", action="store_true",
+                    help="also build with [output] jumps = false and print its ratio")
     a = ap.parse_args()
     cfg = load_config(a.config)
     grid = Grid.from_config(cfg.grid)
@@ -137,11 +143,19 @@ def main() -> None:
           f"{a.config}: {grid.shape[0]} x {grid.shape[1]} poses")
     solver = NumpyRigid(Scene.from_config(cfg))
     tmp = Path(tempfile.mkdtemp(prefix="lutmpi-ratio-"))
-    builds, grids, numpys = [], [], []
+    builds, grids, numpys, plain = [], [], [], []
+    if a.grid_only:
+        import dataclasses
+
+        only = tmp / "grid_only.toml"
+        only.write_text(dataclasses.replace(
+            cfg, output=dataclasses.replace(cfg.output, jumps=False)).text)
     for _ in range(a.repeat):
         wall, after = run_build(a.config, tmp / "t.h5")
         builds.append(wall)
         grids.append(wall - after)
+        if a.grid_only:
+            plain.append(run_build(str(only), tmp / "g.h5")[0])
         t0 = time.perf_counter()
         sol = np.array([[solver.solve(y, yaw) for yaw in grid.yaw] for y in grid.y])
         numpys.append(time.perf_counter() - t0)
@@ -161,6 +175,10 @@ def main() -> None:
     print(f"the same command up to the end of its grid (start-up and the grid's poses, what the "
           f"numpy solver does; without the jump step): {min(grids):.2f} s, ratio "
           f"{min(grids) / min(numpys):.2f}")
+    if a.grid_only:
+        print(f"the same build with [output] jumps = false (the grid's points only), whole "
+              f"command: {min(plain):.2f} s (runs {', '.join(f'{b:.2f}' for b in plain)}), "
+              f"ratio {min(plain) / min(numpys):.2f}")
     print(f"numpy vs table ({'reference' if ref else method}): max |dz_g| "
           f"{np.max(np.abs(sol[..., 0] - z)[ok]) * 1e3:.4f} mm, max |droll| "
           f"{np.max(np.abs(sol[..., 1] - roll)[ok]):.2e} rad")

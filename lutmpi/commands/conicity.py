@@ -130,7 +130,8 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     """``(y, Δr with NaN holes, r0 in mm)`` of a run config: its y grid solved at yaw 0 (the
     config's yaw axis is ignored) with ``method`` (default ``contact.method``), serially, and
     its contact jumps located and the pieces between them refined as a build does (with
-    ``output.refine``): Δr then steps at its jumps instead of running across a grid cell."""
+    ``output.jumps`` and ``output.refine``): Δr then steps at its jumps instead of running
+    across a grid cell."""
     import dataclasses
 
     from lutmpi.config import load_config
@@ -161,12 +162,14 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     def solve(y: float, yaw: float) -> dict[str, np.ndarray]:
         return pose_to_record(solver(scene, y, yaw, name), fields)
 
-    js = tj.locate_jumps(group, grid.y, grid.yaw, solve, fields, refine=cfg.output.refine,
-                         mesh=mesh_resolution(scene, name), scale=cfg.output.refine_scale)
-    jumps = {"arrays": {**js.arrays, J.knot_y: js.knot_y}, KNOTS_GROUP: js.knots,
-             LIMITS_GROUP: js.limits}
+    stored = {}
+    if cfg.output.jumps:
+        js = tj.locate_jumps(group, grid.y, grid.yaw, solve, fields, refine=cfg.output.refine,
+                             mesh=mesh_resolution(scene, name), scale=cfg.output.refine_scale)
+        stored = {name: {"arrays": {**js.arrays, J.knot_y: js.knot_y}, KNOTS_GROUP: js.knots,
+                         LIMITS_GROUP: js.limits}}
     y, dr = dr_from_table({"y": grid.y, "yaw": grid.yaw, "methods": {name: group},
-                           JUMPS_GROUP: {name: jumps}}, name)
+                           JUMPS_GROUP: stored}, name)
     r0 = 0.5 * sum(cfg.wheel.side(s).nominal_radius_mm for s in ("left", "right"))
     return y, dr, r0
 

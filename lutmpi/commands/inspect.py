@@ -59,8 +59,9 @@ def _jump_lines(stored: dict[str, Any] | None) -> list[str]:
     (:attr:`lutmpi.table.Table.jumps`): jumps located, per yaw column at most, extra knots and
     the refinement's scale (its wall time is on the compute-time line); none stored: say so."""
     if stored is None:
-        return ["  jumps: none stored (a table built before jumps were located, or an empty "
-                "grid)"]
+        return ["  jumps: none stored (built with output.jumps = false, or before jumps were "
+                "located, or an empty grid): lookups between grid points interpolate across "
+                "contact jumps"]
     jy = np.asarray(stored["arrays"][J.jump_y], float)
     knots = stored["arrays"].get(J.knot_y)
     n_knots = 0 if knots is None else int(np.isfinite(np.asarray(knots, float)).sum())

@@ -297,6 +297,7 @@ class OutputConfig:
 
     methods: tuple[str, ...] = ("load_centre",)
     quantities: tuple[str, ...] = ("all",)
+    jumps: bool = True      # locate the contact jumps after the grid (lutmpi/table/jumps.py)
     refine: bool = True     # refine the pieces between contact jumps (lutmpi/table/jumps.py)
     refine_scale: float = 1.0  # factor on the refinement's tolerances (> 1: coarser, cheaper)
 

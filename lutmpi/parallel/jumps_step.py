@@ -44,7 +44,8 @@ def _all_rows(comm: Any, row_start: int, blocks: dict[str, dict[str, np.ndarray]
 def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
               methods: tuple[str, ...], fields: Any, f: Any, io: Any, row_start: int,
               blocks: dict[str, dict[str, np.ndarray]], split: str = "dynamic") -> None:
-    """Locate, refine and write the jumps of every method, and the dynamics attributes.
+    """Locate, refine and write the jumps of every method (unless ``output.jumps`` is false),
+    and the dynamics attributes.
 
     Parameters
     ----------
@@ -68,7 +69,10 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
     full = _all_rows(comm, row_start, blocks)
     lfields = limit_fields(fields)
     spent = [0.0, 0]   # this rank's pose solves: seconds, count (the grid's "busy" alike)
-    for method in methods:
+    if not config.output.jumps and comm.rank == 0:
+        log.info("jump step left out (output.jumps = false): the table holds its grid's points "
+                 "only, and lutmpi's lookups on it interpolate across contact jumps")
+    for method in methods if config.output.jumps else ():
         t_method = time.perf_counter()
         arrays = full[method]
 

@@ -19,6 +19,7 @@ query outside the grid raises, or with ``outside="flag"`` reads NaN and is flagg
 from __future__ import annotations
 
 import json
+import logging
 import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -30,6 +31,8 @@ from lutmpi.equilibrium.result import CONVERGED, STATUS
 from lutmpi.errors import TableError
 from lutmpi.table import interp as _interp
 from lutmpi.table.schema import KNOTS_GROUP, LIMITS_GROUP, Y_AXIS, YAW_AXIS, D, J
+
+log = logging.getLogger(__name__)
 
 
 def mask_failed(arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -123,6 +126,11 @@ class Table:
                 arrays = {n: arrays[n] for n in names}
             stored = self.jumps.get(method) if jump_aware else None
             if stored is None:
+                if jump_aware and self.y.size > 1:
+                    log.warning("%s: %s holds no located contact jumps (built with "
+                                "output.jumps = false, or before jumps were located): between "
+                                "grid points it is interpolated across any contact jump",
+                                self.path, method)
                 ip = _interp.build(self.y, self.yaw, arrays)
             else:
                 limits = self._mask(stored[LIMITS_GROUP])

@@ -19,6 +19,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from lutmpi.table.schema import TIMING_FIELDS
 from tests.support.tables import LUTMPI, datasets, differences, env, root_attrs
 
 pytestmark = [pytest.mark.timeout(300),
@@ -94,3 +95,34 @@ def test_static_split_with_multi_point_batches_equals_serial(tmp_path):
     r = build(cfg, two, 2, "--split", "block", timeout=180)
     assert r.returncode == 0, r.stderr[-3000:]
     assert differences(one, two) == []
+
+
+def test_jumps_false_is_the_grid_alone_with_a_warning_on_lookups(serial, tmp_path):
+    """``[output] jumps = false`` (a table for a tool that reads the grid and interpolates by
+    itself): on 2 ranks, every grid dataset is the bits of the default build's, no jumps group
+    is written, the dynamics attributes are, and lutmpi's own lookups on it warn that they
+    interpolate across contact jumps (the default table holds some: the flange)."""
+    _, one = serial
+    cfg = tmp_path / "grid_only.toml"
+    cfg.write_text(CONFIG.replace("[output]\n", "[output]\njumps = false\n"))
+    out = tmp_path / "grid_only.h5"
+    r = _build(cfg, out, 2)
+    assert r.returncode == 0, r.stderr[-3000:]
+    assert "jump step left out (output.jumps = false)" in r.stderr
+    full, grid = datasets(one), datasets(out)
+    assert any("/jumps/" in name for name in full)
+    assert sorted(grid) == sorted(n for n in full if "/jumps/" not in n)
+    for name in grid:
+        if name.rsplit("/", 1)[-1] not in TIMING_FIELDS:
+            assert grid[name].tobytes() == full[name].tobytes(), name
+    ra, rb = root_attrs(one), root_attrs(out)
+    for key in ("wheel_flange_angle", "young_modulus", "poisson_ratio", "nominal_radius",
+                "vertical_load"):
+        assert rb[key] == ra[key], key
+    q = subprocess.run([LUTMPI, "query", str(out), "--pose", "4.5", "0.0"], capture_output=True,
+                       text=True, timeout=120, env=env(), stdin=subprocess.DEVNULL)
+    assert q.returncode == 0, q.stderr[-3000:]
+    assert "holds no located contact jumps" in q.stderr
+    q = subprocess.run([LUTMPI, "query", str(one), "--pose", "4.5", "0.0"], capture_output=True,
+                       text=True, timeout=120, env=env(), stdin=subprocess.DEVNULL)
+    assert q.returncode == 0 and "holds no located contact jumps" not in q.stderr

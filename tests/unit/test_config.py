@@ -130,7 +130,7 @@ def test_round_trip_with_every_key_changed(tmp_path):
         "grid": {"y_mm": [-3, 5.5, 4], "yaw_rad": [-0.1, 0.2, 2]},
         "mesh": {"window": False, "wheel_lateral_mm": 0.1 + 0.2},
         "output": {"methods": ["reference", "load_centre"], "quantities": ["z_g", "force"],
-                   "refine_scale": 3},
+                   "refine_scale": 3, "jumps": False},
         "wear": {"wheel": {"flange_thinning_mm": 1.5}, "rail": {"side_mm": 2}},
         "equilibrium": {"max_kc_N_per_m": 1.2345678901234567e17, "max_iterations": 7},
     }
@@ -223,6 +223,7 @@ BAD = [  # (dotted key, bad value, key the error must name)
     ("output.refine_scale", 0.05, "output.refine_scale"),
     ("output.refine_scale", 2000.0, "output.refine_scale"),
     ("output.refine_scale", "3", "output.refine_scale"),
+    ("output.jumps", "no", "output.jumps"),
     ("wear.wheel.flange_thinning_mm", -1.0, "wear.wheel.flange_thinning_mm"),
     ("wear.rail.side_mm", 31.0, "wear.rail.side_mm"),
     ("wear.wheel", 3, "wear.wheel"),
