@@ -11,7 +11,8 @@ builds the table with its own ``lutmpi build`` (``PYTHONPATH`` = the tree); the 
 ``--refine-scale 1 3 10`` builds this tree's table once per ``output.refine_scale`` (the error
 between the grid points against the build's run time). Printed
 per table: build wall time, located jumps, extra knots, and the largest and RMS error of each
-wheel's primary rolling radius (um) and contact angle (mrad) over the query poses, split into
+wheel's primary rolling radius (um) and contact angle (mrad), and of the wheelset's z_g (um)
+and roll (urad), over the query poses, split into
 *near* (within 0.02 mm of a located jump) and, by the larger primary contact angle of the two
 wheels, *tread* (below 5 degrees), *root* (5 to 30 degrees) and *flange* (above 30).
 """
@@ -89,14 +90,25 @@ def build(tree: Path, config: Path, out: Path) -> float:
 
 
 def direct(scene: Scene, ys: np.ndarray, yaw: float, method: str) -> np.ndarray:
-    """(n, 2 quantities, 2 wheels): the primary contact's rolling radius and contact angle per
-    wheel, as the table stores them (slot 0: :func:`lutmpi.table.compute.pose_to_record`)."""
-    fields = [FIELDS_BY_NAME[D.rolling_radius], FIELDS_BY_NAME[D.contact_angle]]
-    out = np.empty((ys.size, 2, 2))
+    """(n, 4): the larger over the wheels of the primary contact's rolling radius and contact
+    angle, as the table stores them (slot 0: :func:`lutmpi.table.compute.pose_to_record`),
+    then z_g and roll; per wheel for the first two, so (n, 4, 2) with the pose's quantities
+    repeated."""
+    names = (D.rolling_radius, D.contact_angle, D.z_g, D.roll)
+    fields = [FIELDS_BY_NAME[n] for n in names]
+    out = np.empty((ys.size, 4, 2))
     for k, y in enumerate(ys):
         rec = pose_to_record(solve_pose(scene, float(y), yaw, method), fields)
-        out[k] = rec[D.rolling_radius][:, 0], rec[D.contact_angle][:, 0]
+        out[k] = _rows(rec)
     return out
+
+
+def _rows(rec: dict) -> np.ndarray:
+    """(…, 4, 2) from a record or a query's arrays: the primary contact's rolling radius and
+    contact angle per wheel, z_g and roll twice."""
+    per = [np.asarray(rec[n])[..., 0] for n in (D.rolling_radius, D.contact_angle)]
+    pose = [np.repeat(np.asarray(rec[n], float)[..., None], 2, axis=-1) for n in (D.z_g, D.roll)]
+    return np.stack(per + pose, axis=-2)
 
 
 def main() -> None:
@@ -131,8 +143,7 @@ def main() -> None:
     for k, (name, _, _) in enumerate(trees):
         t = Table.open(tmp / f"{k}.h5")
         rec = t.interp(ys, np.full_like(ys, a.yaw), a.method)
-        got = np.stack([rec[D.rolling_radius][:, :, 0], rec[D.contact_angle][:, :, 0]], axis=1)
-        err = np.nanmax(np.abs(got - ref), axis=2)
+        err = np.nanmax(np.abs(_rows(rec) - ref), axis=2)
         jy = t.jump_positions(a.method)[0]
         jy = jy[np.isfinite(jy)]
         near = (np.min(np.abs(ys[:, None] - jy[None, :]), axis=1) < NEAR_M if jy.size
@@ -143,10 +154,12 @@ def main() -> None:
             if not sel.any():
                 continue
             e = err[sel]
-            print(f"  {label:6s} n={sel.sum():4d}  rolling radius max {e[:, 0].max() * 1e6:7.2f} "
-                  f"rms {np.sqrt(np.mean(e[:, 0] ** 2)) * 1e6:6.2f} um   contact angle max "
-                  f"{e[:, 1].max() * 1e3:6.3f} rms {np.sqrt(np.mean(e[:, 1] ** 2)) * 1e3:6.3f} "
-                  "mrad")
+            mx, rms = e.max(axis=0), np.sqrt(np.mean(e ** 2, axis=0))
+            print(f"  {label:6s} n={sel.sum():4d}  rolling radius max {mx[0] * 1e6:7.2f} "
+                  f"rms {rms[0] * 1e6:6.2f} um   contact angle max {mx[1] * 1e3:6.3f} "
+                  f"rms {rms[1] * 1e3:6.3f} mrad   z_g max {mx[2] * 1e6:6.2f} rms "
+                  f"{rms[2] * 1e6:5.2f} um   roll max {mx[3] * 1e6:6.2f} rms {rms[3] * 1e6:5.2f} "
+                  "urad")
 
 
 if __name__ == "__main__":

@@ -297,6 +297,15 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("refine_floor_coarse", "jump-aware tables", "lutmpi/table/jumps.py",
       "MIN_WIDTH_M = TOL_M\n", "MIN_WIDTH_M = 40 * TOL_M\n", (T_JUMPS,),
       "refinement stops at 0.2 mm knot spacing instead of a jump's 5 µm bracket"),
+    M("cubic_test_secant", "jump-aware tables", "lutmpi/table/jumps.py",
+      "    if len(x) == 2:\n        d0 = d1 = delta[0]\n",
+      "    if True:\n        d0 = d1 = delta[i]\n", (T_JUMPS,),
+      "the pose (z_g, roll) refined against the straight line, not the table's cubic (the "
+      "pre-2026-11-27 rule)"),
+    M("neighbours_across_jump", "jump-aware tables", "lutmpi/table/jumps.py",
+      "    left = knots[k - 1][:2] if k > 0 and knots[k - 1][2] == piece else None\n",
+      "    left = knots[k - 1][:2] if k > 0 else None\n", (T_JUMPS,),
+      "the cubic of the pose's refinement reaches across a jump for its left neighbour"),
     M("pair_by_count", "jump-aware tables", "lutmpi/table/interp.py",
       "    if (na == nb and np.array_equal(sa, sb) and np.array_equal(a_near, np.arange(na))\n"
       "            and np.array_equal(b_near, np.arange(nb))):\n",

@@ -221,10 +221,11 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
     for j in range(grid.yaw.size if refine else 0):
         knots = _jumps.column_knots(arrays, grid.y, j, found,
                                     [(y, r) for jj, y, r in extra if jj == j])
-        items += [(j, knots[k], knots[k + 1]) for k in _jumps.refinement_items(knots)]
+        items += [(j, knots[k], knots[k + 1], _jumps.neighbours(knots, k))
+                  for k in _jumps.refinement_items(knots)]
     refined = _share(comm, items, lambda it: _jumps.refine_interval(
         it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve, mesh=mesh,
-        scale=scale), split)
+        scale=scale, outer=it[3]), split)
     log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),
               t1 - t0, len(items), time.perf_counter() - t1)
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]

@@ -25,12 +25,14 @@ Algorithm, per yaw column and per grid cell ``[y_i, y_i+1]``:
    several jumps: the second contact of a double contact appears, takes the larger force, goes).
 
 5. *Refinement* (:func:`refine_interval`): between neighbouring knots of one piece (grid nodes,
-   bisection samples, bracket ends) the midpoint is solved; where the straight line through the two
-   knots misses it by more than :data:`REFINE_TOL` (rolling radius, contact angle, z_g, roll),
-   both halves are refined again, down to :data:`MIN_WIDTH_M`, as long as the miss keeps
-   falling (:data:`REFINE_GAIN`; solver noise does not fall, so noise is not chased). Every
-   pose solved after the build is kept as an extra knot of its column: the table is the grid
-   plus what the jumps and the curvature of the contact needed.
+   bisection samples, bracket ends) the midpoint is solved; where the table's interpolant
+   through the knots misses it by more than :data:`REFINE_TOL` (rolling radius, contact angle:
+   the straight line through the two knots; z_g, roll: the monotone cubic through them and
+   their neighbours in the piece, :data:`CUBIC_TESTED`), both halves are refined again, down to
+   :data:`MIN_WIDTH_M`, as long as the miss keeps falling (:data:`REFINE_GAIN`; solver noise
+   does not fall, so noise is not chased). Every pose solved after the build is kept as an
+   extra knot of its column: the table is the grid plus what the jumps and the curvature of
+   the contact needed.
 
 The states at ``lo`` and ``hi`` are full pose records: the one-sided limits of every stored
 quantity. Everything depends only on the table and the solver, never on who solved what, so the
@@ -46,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from lutmpi.table.interp import KINKING
 from lutmpi.table.schema import JUMP_FIELDS, D, Field, J
 
 #: primary contact point movement (m) between neighbours that makes a cell a candidate
@@ -69,6 +72,13 @@ REFINE_TOL = {D.rolling_radius: 1e-6, D.contact_angle: 1e-4, D.z_g: 2e-6, D.roll
 #: without them the 1-D tables between their points are unchanged (load centre) or within
 #: 0.22 um of direct solves instead of 0.08 um (reference) (BENCHMARKS.md, 2026-11-25)
 MIN_WIDTH_M = TOL_M
+#: quantities whose miss is that of the monotone cubic (PCHIP) through an interval's knots and
+#: their neighbours in the piece, not of the straight line: the wheelset's pose, smooth within a
+#: piece (it only kinks at a jump: :data:`lutmpi.table.interp.KINKING`), which the table
+#: interpolates by that cubic. Tested by the straight line, its curvature drew half the
+#: refinement's solves on the Manchester table (load centre, 37 x 9: 3 240 -> 2 260 solves
+#: without them), knots the cubic does not need (BENCHMARKS.md, 2026-11-27)
+CUBIC_TESTED = KINKING
 #: a child interval is refined further only if its miss fell below this fraction of its parent's
 #: (a smooth function: 1/4 per halving, a kink: 1/2, a square-root onset next to a jump: 0.71;
 #: solver noise does not fall: stop there)
@@ -373,36 +383,98 @@ def _raised(recs: Sequence[Record], mesh: MeshResolution | None) -> dict[str, An
     return tol
 
 
-def _miss(r0: Record, r1: Record, rm: Record, tols: dict[str, Any]) -> float:
-    """Largest miss of the straight line between two records at their midpoint record, in
-    units of ``tols`` (:func:`tolerances`; NaN-safe: a quantity missing anywhere is not
-    checked)."""
+Knot = tuple[float, Record]
+
+
+def _miss(knots: Sequence[Knot | None], xm: float, rm: Record, tols: dict[str, Any]) -> float:
+    """Largest miss of the interpolant between an interval's knots at its midpoint ``(xm, rm)``,
+    in units of ``tols`` (:func:`tolerances`; NaN-safe: a quantity missing anywhere is not
+    checked). ``knots``: ``(left neighbour, x0, x1, right neighbour)``, the neighbours None
+    where the piece ends. The straight line through ``x0, x1`` predicts the midpoint, the
+    monotone cubic through all the knots given (:func:`pchip_mid`) for :data:`CUBIC_TESTED`."""
+    _, (x0, r0), (x1, r1), _ = knots
     worst = 0.0
     for name in REFINE_TOL:
         if name not in rm:
             continue
         if np.ndim(rm[name]):            # per contact: the primary contact of each wheel
             tol = np.broadcast_to(tols[name], (2,)).tolist()
-            rows = [(*vals, t) for vals, t in zip(_primaries((r0, r1, rm), name), tol,
-                                                   strict=True)]
+            rows = [(0.5 * (a + b), m, t) for (a, b, m), t
+                    in zip(_primaries((r0, r1, rm), name), tol, strict=True)]
+        elif name in CUBIC_TESTED:
+            given = [k for k in knots if k is not None]
+            rows = [(pchip_mid([x for x, _ in given], [float(r[name]) for _, r in given],
+                               knots[0] is not None, xm), float(rm[name]), float(tols[name]))]
         else:
-            rows = [(float(r0[name]), float(r1[name]), float(rm[name]), float(tols[name]))]
-        for a, b, m, t in rows:          # Python floats: the same arithmetic as on arrays
-            d = abs(0.5 * (a + b) - m) / t
+            rows = [(0.5 * (float(r0[name]) + float(r1[name])), float(rm[name]),
+                     float(tols[name]))]
+        for pred, m, t in rows:          # Python floats: the same arithmetic as on arrays
+            d = abs(pred - m) / t
             if math.isfinite(d):
                 worst = max(worst, d)
     return worst
 
 
+def pchip_mid(x: Sequence[float], v: Sequence[float], has_left: bool, xm: float) -> float:
+    """The monotone cubic (Fritsch-Carlson, as :func:`lutmpi.table.interp.pchip_slopes`) through
+    two to four knots ``x`` (increasing, m) with values ``v`` at ``xm``, inside the interval that
+    starts at the second knot when ``has_left`` (a left neighbour comes first), else at the
+    first (the piece starts there). Python floats: it runs for every pose the refinement
+    solves."""
+    i = 1 if has_left else 0
+    h = [x[k + 1] - x[k] for k in range(len(x) - 1)]
+    delta = [(v[k + 1] - v[k]) / h[k] for k in range(len(h))]
+    if len(x) == 2:
+        d0 = d1 = delta[0]
+    else:
+        d0 = _pchip_slope(h, delta, i)
+        d1 = _pchip_slope(h, delta, i + 1)
+    t = (xm - x[i]) / h[i]
+    t2, t3 = t * t, t * t * t
+    return ((2 * t3 - 3 * t2 + 1) * v[i] + (t3 - 2 * t2 + t) * h[i] * d0
+            + (-2 * t3 + 3 * t2) * v[i + 1] + (t3 - t2) * h[i] * d1)
+
+
+def _pchip_slope(h: list[float], delta: list[float], k: int) -> float:
+    """The Fritsch-Carlson slope at knot ``k`` from the spacings ``h`` and secants ``delta``
+    (at an end SciPy's shape-preserving three-point formula)."""
+    n = len(h)
+    if k == 0 or k == n:
+        h0, h1, m0, m1 = (h[0], h[1], delta[0], delta[1]) if k == 0 else (
+            h[-1], h[-2], delta[-1], delta[-2])
+        d = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
+        if _sign(d) != _sign(m0):
+            return 0.0
+        if _sign(m0) != _sign(m1) and abs(d) > abs(3 * m0):
+            return 3 * m0
+        return d
+    m0, m1 = delta[k - 1], delta[k]
+    if math.isnan(m0) or math.isnan(m1):
+        return math.nan
+    if not _sign(m0) * _sign(m1) > 0:
+        return 0.0
+    w1, w2 = 2 * h[k] + h[k - 1], h[k] + 2 * h[k - 1]
+    return (w1 + w2) / (w1 / m0 + w2 / m1)
+
+
+def _sign(a: float) -> float:
+    """``numpy.sign`` of a Python float (NaN for NaN)."""
+    return math.nan if math.isnan(a) else float(a > 0) - float(a < 0)
+
+
 def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, solve: PoseSolver,
                     min_width: float = MIN_WIDTH_M, mesh: MeshResolution | None = None,
-                    parent: tuple[float, dict] | None = None, scale: float = 1.0
+                    parent: tuple[float, dict] | None = None, scale: float = 1.0,
+                    outer: tuple[Knot | None, Knot | None] = (None, None)
                     ) -> list[tuple[float, Record]]:
-    """Midpoint solves of one interval of a piece, recursively where the straight line misses
-    the midpoint by more than its :func:`tolerances` (``mesh``: the method's mesh, ``scale``:
-    the factor on the tolerances, as there) and by less than :data:`REFINE_GAIN` times the
-    parent interval's miss (``parent``: its miss and tolerances; both misses in the parent's
-    tolerances).
+    """Midpoint solves of one interval of a piece, recursively where the interpolant misses
+    the midpoint (:func:`_miss`) by more than its :func:`tolerances` (``mesh``: the method's
+    mesh, ``scale``: the factor on the tolerances, as there) and by less than
+    :data:`REFINE_GAIN` times the parent interval's miss (``parent``: its miss and tolerances;
+    both misses in the parent's tolerances). ``outer``: the knots next to ``x0`` and ``x1`` in
+    the piece (:func:`neighbours`; None where it ends), which the cubic of
+    :data:`CUBIC_TESTED` goes through; a half's are the other end and the outer knot on its
+    side.
 
     A midpoint whose discrete state (status, contact count) differs from an end is dropped and
     not refined further: a jump the grid-level search did not see (two changes that cancel in
@@ -422,13 +494,16 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
         return []
     out = [(xm, rm)]
     tols = tolerances((r0, r1, rm), mesh, scale)
-    miss = _miss(r0, r1, rm, tols)
+    knots = (outer[0], (x0, r0), (x1, r1), outer[1])
+    miss = _miss(knots, xm, rm, tols)
     if miss > 1.0 and (parent is None
-                       or _miss(r0, r1, rm, parent[1]) < REFINE_GAIN * parent[0]):
-        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, (miss, tols), scale)
+                       or _miss(knots, xm, rm, parent[1]) < REFINE_GAIN * parent[0]):
+        here = (miss, tols)
+        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, here, scale,
+                               (outer[0], (x1, r1)))
                + out
-               + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, mesh, (miss, tols),
-                                 scale))
+               + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, mesh, here, scale,
+                                 ((x0, r0), outer[1])))
     return out
 
 
@@ -456,6 +531,17 @@ def refinement_items(knots: Sequence[tuple[float, Record, int]], min_width: floa
     enough to refine."""
     return [k for k in range(len(knots) - 1)
             if knots[k][2] == knots[k + 1][2] and knots[k + 1][0] - knots[k][0] >= 2 * min_width]
+
+
+def neighbours(knots: Sequence[tuple[float, Record, int]], k: int
+               ) -> tuple[Knot | None, Knot | None]:
+    """The knots next to the pair ``(k, k + 1)`` of one column (:func:`column_knots`) in the
+    same piece, ``(y, record)`` each; None where the piece ends (the ``outer`` of
+    :func:`refine_interval`)."""
+    piece = knots[k][2]
+    left = knots[k - 1][:2] if k > 0 and knots[k - 1][2] == piece else None
+    right = (knots[k + 2][:2] if k + 2 < len(knots) and knots[k + 2][2] == piece else None)
+    return left, right
 
 
 @dataclass(frozen=True)
@@ -539,7 +625,8 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
                 (x0, r0, _), (x1, r1, _) = knots[k], knots[k + 1]
                 extra += [(j, y, r) for y, r in
                           refine_interval(x0, r0, x1, r1, float(yaw_axis[j]), solve,
-                                          mesh=mesh, scale=scale)]
+                                          mesh=mesh, scale=scale,
+                                          outer=neighbours(knots, k))]
     return assemble(found, extra, yaw_axis.size, fields)
 
 

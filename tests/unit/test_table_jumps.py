@@ -691,6 +691,92 @@ def test_refine_scale_multiplies_every_tolerance_and_refines_to_it():
     assert widths[1.0].size > 3 * widths[16.0].size
 
 
+def test_pchip_mid_is_the_tables_monotone_cubic():
+    """The refinement's scalar cubic (:func:`lutmpi.table.jumps.pchip_mid`, Python floats) is
+    the table's PCHIP through the same two to four knots, to the bit: monotone and
+    non-monotone data, a flat secant, the piece's first and last interval."""
+    rng = np.random.default_rng(7)
+    checked = 0
+    for trial in range(600):
+        n = int(rng.integers(2, 5))
+        x = np.sort(rng.uniform(0.0, 1e-3, n))
+        if np.diff(x).min() < 1e-6:
+            continue
+        v = np.cumsum(rng.uniform(0.0, 1e-5, n)) if trial % 2 else rng.normal(0.46, 1e-5, n)
+        if trial % 5 == 0:
+            v[1] = v[0]
+        for has_left in ((False, True) if n == 3 else (n == 4,)):
+            i = 1 if has_left else 0
+            xm = x[i] + rng.uniform() * (x[i + 1] - x[i])
+            want = ti._predict_pchip(x, v[:, None], np.array([xm]))[0, 0]
+            assert tj.pchip_mid(x.tolist(), v.tolist(), has_left, float(xm)) == want
+            checked += 1
+    assert checked > 500
+
+
+def _bowl_pose(c: float):
+    """A solver whose pose is a bowl, ``z_g = 0.46 + c y^2`` (m), contact constant."""
+    def solve(y, yaw):
+        rec = flange_record(0.47)
+        rec["z_g"] = np.float64(0.46 + c * y * y)
+        return rec
+    return solve
+
+
+def test_the_pose_is_refined_against_the_cubic_through_its_neighbours():
+    """z_g (and roll) are smooth within a piece and the table interpolates them by the
+    monotone cubic: an interval is refined while that cubic, through its knots and their
+    neighbours in the piece, misses the midpoint by more than 2 um, not the straight line. A
+    bowl z_g = 0.46 + c y^2 over grid knots 0.5 mm apart (c = 1000 /m: the straight line misses
+    a midpoint by c w^2 / 4 = 62.5 um) needs knots 62.5 um apart for the straight line; the
+    cubic far fewer. The rule bounds the cubic's miss at each midpoint it solves, with the
+    slopes the knots had then; a knot's PCHIP slope moves when a neighbouring interval gains
+    knots later (here 2.4 um between 1.5 and 1.75 mm, next to a knot whose neighbours end up
+    62.5 and 250 um away), so the table built from them is held to half as much again."""
+    c, tol = 1e3, tj.REFINE_TOL["z_g"]
+    y_axis = np.linspace(0.5e-3, 4e-3, 8)
+    solve = _bowl_pose(c)
+    recs = [solve(float(y), 0.0) for y in y_axis]
+    arrays = {f.name: np.stack([r[f.name] for r in recs])[:, None] for f in REF_FLDS}
+    js = tj.locate_jumps(arrays, y_axis, np.zeros(1), solve, REF_FLDS)
+    knots = np.sort(js.knot_y[0][np.isfinite(js.knot_y[0])])
+    # the straight line's rule: misses 31, 7.8, 2.0 and 0.49 times 2 um at widths 0.5, 0.25,
+    # 0.125 and 0.0625 mm, each falling by 1/4 (REFINE_GAIN holds): 1 + 2 + 4 + 8 midpoints in
+    # each of the 7 grid intervals
+    line = 7 * (1 + 2 + 4 + 8)
+    assert 0 < knots.size <= line / 4
+    ip = ti.build(y_axis, np.zeros(1), arrays, js.arrays, js.limits, js.knot_y, js.knots,
+                  modes={"z_g": "pchip"})
+    yq = np.linspace(y_axis[0], y_axis[-1], 2001)
+    z = ip.evaluate(yq, np.zeros_like(yq))[0][:, ip.layout.slots["z_g"][0]]
+    assert np.abs(z - (0.46 + c * yq * yq)).max() <= 1.5 * tol
+
+
+def test_contact_quantities_keep_the_straight_line_with_neighbours_given():
+    """The rolling radius and contact angle are refined against the straight line whatever the
+    neighbours (their table interpolant is chosen from their knots, often linear): a bowl in
+    the rolling radius gives the same knots with and without them."""
+    c, w = 1e2, 4e-3
+
+    def bowl(y, yaw):
+        return flange_record(0.47 + c * y * y)
+
+    plain = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl)
+    outer = ((-w, bowl(-w, 0.0)), (2 * w, bowl(2 * w, 0.0)))
+    given = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl, outer=outer)
+    assert [y for y, _ in given] == [y for y, _ in plain] and len(plain) > 3
+
+
+def test_neighbours_stay_in_the_piece():
+    """The outer knots of a knot pair are its neighbours in the same piece, None across a
+    jump or at the column's ends."""
+    rec = flange_record(0.47)
+    knots = [(0.0, rec, 0), (1.0, rec, 0), (2.0, rec, 0), (3.0, rec, 1), (4.0, rec, 1)]
+    assert [(a and a[0], b and b[0]) for a, b in
+            (tj.neighbours(knots, k) for k in (0, 1, 3))] == [(None, 2.0), (0.0, None),
+                                                              (None, None)]
+
+
 def test_records_cross_ranks_as_columns_unchanged():
     """The jump step's transport (:func:`lutmpi.parallel.jumps_step._pack`): records inside
     lists, tuples and jumps come back with the same names, dtypes, shapes and bits."""
