@@ -11,7 +11,8 @@ Representation (built once per table and method, :func:`build`):
 * Per quantity an interpolant along y (:data:`MODES`): ``linear``, ``pchip`` (monotone cubic,
   Fritsch-Carlson slopes computed inside each piece) or ``nearest`` (codes and counts), chosen by
   :func:`choose_modes` from the error each makes predicting the table's own nodes from every other
-  node (a measured error at twice the step, no extra solve).
+  node (a measured error at twice the step, no extra solve); the wheelset's pose is always
+  ``pchip``, the cubic its refinement tested (:data:`lutmpi.table.jumps.CUBIC_TESTED`).
 * The jumps of neighbouring yaw columns are paired one by one (:func:`pair_jumps`: the
   order-keeping pairing of least distance, on the same wheel, within :data:`PAIR_STEPS` grid
   steps of y or farther where the jumps all moved farther). The same count of jumps is not taken
@@ -444,7 +445,10 @@ def choose_modes(y_axis: np.ndarray, arrays: dict[str, np.ndarray],
                  limits: dict[str, np.ndarray] | None = None, knot_y: np.ndarray | None = None,
                  knots: dict[str, np.ndarray] | None = None) -> dict[str, str]:
     """The interpolant of each float quantity: ``pchip`` where predicting every other knot of
-    each piece from the rest errs less (RMS over the table) than ``linear``, else ``linear``.
+    each piece from the rest errs less (RMS over the table) than ``linear``, else ``linear``;
+    always ``pchip`` for the wheelset's pose (:data:`KINKING`), whose refinement between the
+    knots tested that cubic (:data:`lutmpi.table.jumps.CUBIC_TESTED`): read with the straight
+    line, its knots would not hold the tolerance they were placed for.
 
     The comparison uses only the table's own nodes and jump limits: the measured error at twice
     the grid step, which ranks the two interpolants as at the step itself (both converge at their
@@ -473,7 +477,7 @@ def choose_modes(y_axis: np.ndarray, arrays: dict[str, np.ndarray],
     for name, (off, suffix) in ip.layout.slots.items():
         size = int(np.prod(suffix, dtype=int))
         lin, pch = err[0, off:off + size].sum(), err[1, off:off + size].sum()
-        out[name] = "pchip" if pch < lin else "linear"
+        out[name] = "pchip" if pch < lin or name in KINKING else "linear"
     return out
 
 

@@ -75,7 +75,8 @@ MIN_WIDTH_M = TOL_M
 #: quantities whose miss is that of the monotone cubic (PCHIP) through an interval's knots and
 #: their neighbours in the piece, not of the straight line: the wheelset's pose, smooth within a
 #: piece (it only kinks at a jump: :data:`lutmpi.table.interp.KINKING`), which the table
-#: interpolates by that cubic. Tested by the straight line, its curvature drew half the
+#: always interpolates by that cubic (:func:`~lutmpi.table.interp.choose_modes`). Tested by
+#: the straight line, its curvature drew half the
 #: refinement's solves on the Manchester table (load centre, 37 x 9: 3 240 -> 2 260 solves
 #: without them), knots the cubic does not need (BENCHMARKS.md, 2026-11-27)
 CUBIC_TESTED = KINKING

@@ -752,6 +752,18 @@ def test_the_pose_is_refined_against_the_cubic_through_its_neighbours():
     assert np.abs(z - (0.46 + c * yq * yq)).max() <= 1.5 * tol
 
 
+def test_the_pose_is_always_read_with_the_cubic_it_was_refined_for():
+    """``choose_modes`` picks by measured error, but not for the pose: its knots were placed for
+    the monotone cubic, so z_g and roll are ``pchip`` even where the straight line predicts
+    the knots as well (data linear in y: a tie, which goes to ``linear`` for the rest)."""
+    y_axis = np.linspace(0.0, 4e-3, 9)
+    ramp = (0.46 + 1e-3 * y_axis)[:, None]
+    arrays = {"status": np.full((9, 1), CONVERGED, np.int8), "z_g": ramp.copy(),
+              "roll": 1e-2 * ramp, "x_g": ramp.copy()}
+    modes = ti.choose_modes(y_axis, arrays)
+    assert modes == {"z_g": "pchip", "roll": "pchip", "x_g": "linear"}
+
+
 def test_contact_quantities_keep_the_straight_line_with_neighbours_given():
     """The rolling radius and contact angle are refined against the straight line whatever the
     neighbours (their table interpolant is chosen from their knots, often linear): a bowl in
