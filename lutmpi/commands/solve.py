@@ -32,7 +32,7 @@ def register(subparsers: Any) -> None:
 def run(args: Any) -> int:
     from lutmpi.config import load_config
     from lutmpi.contact.poses import check_pose, read_poses
-    from lutmpi.pose.solve import solve_pose
+    from lutmpi.pose.solve import solve_pose, warm
     from lutmpi.scene import Scene
 
     poses = read_poses(args.poses) if args.poses else []
@@ -43,6 +43,9 @@ def run(args: Any) -> int:
         raise ConfigError("no poses: give --poses FILE.csv or --pose Y_MM YAW_RAD")
     cfg = load_config(args.config)
     scene = Scene.from_config(cfg)
+    # the kernels loaded (or, on a cold cache, compiled) before the first pose, outside its
+    # time budget (equilibrium.max_pose_time_s), as a build does
+    warm(scene, args.method or scene.settings.method)
     results = [solve_pose(scene, y, yaw, args.method) for y, yaw in poses]
     failed = [r for r in results if not r.success]
     for r in failed:

@@ -31,6 +31,9 @@ DIP_SUB = 10
 #: flange's locus sweeps per sample bounds it by ~4.6 mm), m
 DIP_BAND = SCAN_BAND
 _NO_IDX = np.empty(0, dtype=np.int64)  # "the samples themselves" (:func:`lowest_gap`)
+#: what :func:`run_gaps` resamples: nothing (the scan's coarse samples), the minima (the scan's
+#: refinement windows), the minima and an unresolved smallest's neighbours (whole profiles)
+COARSE, WINDOW, WHOLE = 0, 1, 2
 
 
 # -- compiled gap loops -------------------------------------------------------------------------
@@ -51,7 +54,7 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
             for q in range(s.size):
                 phis[q] = beta + np.arcsin(min(max(bs * dr[q] / amp, -1.0), 1.0))
         return run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap,
-                        np.empty(s.size), np.empty(s.size), True)
+                        np.empty(s.size), np.empty(s.size), WHOLE)
     sb, cb = c / amp, a / amp  # sin(beta), cos(beta)
     nt = tabz.size
     best, ib = np.inf, -1
@@ -82,7 +85,7 @@ def side_gaps(idx, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, phis
             nmin += 1
         down, prev = g < prev, g
     val, ib, _ = lowest_gap(gap, idx, idx.size, ib, nmin + down > 1, sgn, s, r, dr, d, R, y, u0,
-                            du, tabz, u_min, u_max)
+                            du, tabz, u_min, u_max, True)
     return -val, ib
 
 
@@ -139,19 +142,34 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
                     tabz, u_min, u_max)
     if gm - gk <= DIP_M and gp - gk <= DIP_M:
         return np.nan, np.nan
+    return _span_min(k - 1, 2, gm, gk, gp, sgn, s, r, dr, d, R, y, amp, sb, cb, bs, u0, du, tabz,
+                     u_min, u_max)
+
+
+@njit(cache=True)
+def _span_min(i0, nint, g0, g1, g2, sgn, s, r, dr, d, R, y, amp, sb, cb, bs, u0, du, tabz,
+              u_min, u_max):
+    """The smallest gap of one wheel's locus over the ``nint`` (1 or 2) sample intervals from
+    sample ``i0`` (whose gaps are ``g0, g1`` and, for two, ``g2``), resampled :data:`DIP_SUB`
+    times per interval, once more :data:`DIP_SUB` times finer between the sub-samples next to
+    the smallest where they lie more than :data:`DIP_M` above it, and the parabola through the
+    smallest and its neighbours (:func:`resampled_min`); and its profile coordinate (m)."""
     m = DIP_SUB
-    vals = np.empty(2 * m + 1)
-    vals[0], vals[m], vals[2 * m] = gm, gk, gp
-    for half in range(2):
+    vals = np.empty(nint * m + 1)
+    vals[0], vals[m] = g0, g1
+    if nint == 2:
+        vals[2 * m] = g2
+    for half in range(nint):
         for q in range(1, m):
-            vals[half * m + q] = _hermite_gap(k - 1 + half, q / m, sgn, s, r, dr, d, R, y, amp,
+            vals[half * m + q] = _hermite_gap(i0 + half, q / m, sgn, s, r, dr, d, R, y, amp,
                                               sb, cb, bs, u0, du, tabz, u_min, u_max)
+    nv = nint * m + 1
     ib = 0
-    for q in range(1, 2 * m + 1):
+    for q in range(1, nv):
         if vals[q] < vals[ib]:
             ib = q
-    val, t = parabola_min(vals, ib, 2 * m + 1)
-    if 0 < ib < 2 * m and (vals[ib - 1] - vals[ib] > DIP_M or vals[ib + 1] - vals[ib] > DIP_M):
+    val, t = parabola_min(vals, ib, nv)
+    if 0 < ib < nv - 1 and (vals[ib - 1] - vals[ib] > DIP_M or vals[ib + 1] - vals[ib] > DIP_M):
         # still not resolved (a dip sharper than 1 um over 10 um): once more between the
         # sub-samples next to the smallest, DIP_SUB times finer
         m2 = m * m
@@ -159,10 +177,9 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
         v2[0], v2[m], v2[2 * m] = vals[ib - 1], vals[ib], vals[ib + 1]
         for q in range(1, 2 * m):
             if q != m:
-                x = (ib - 1) * m + q  # in 1/m2 of a sample interval from s[k - 1]
-                i0 = k - 1 + x // m2
-                v2[q] = _hermite_gap(i0, (x % m2) / m2, sgn, s, r, dr, d, R, y, amp, sb, cb, bs,
-                                     u0, du, tabz, u_min, u_max)
+                x = (ib - 1) * m + q  # in 1/m2 of a sample interval from s[i0]
+                v2[q] = _hermite_gap(i0 + x // m2, (x % m2) / m2, sgn, s, r, dr, d, R, y, amp,
+                                     sb, cb, bs, u0, du, tabz, u_min, u_max)
         i2 = 0
         for q in range(1, 2 * m + 1):
             if v2[q] < v2[i2]:
@@ -171,9 +188,10 @@ def resampled_min(k, gk, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
         pos = ((ib - 1) * m + i2 + t) / m2
     else:
         pos = (ib + t) / m
-    # its profile coordinate, in the sample interval it lies in (sample units from s[k - 1])
-    half = 0 if pos <= 1.0 else 1
-    return val, s[k - 1 + half] + (pos - half) * (s[k + half] - s[k - 1 + half])
+    # its profile coordinate, in the sample interval it lies in (sample units from s[i0]; an
+    # interval's end belongs to the interval below it)
+    seg = min(max(int(np.ceil(pos)) - 1, 0), nint - 1)
+    return val, s[i0 + seg] + (pos - seg) * (s[i0 + seg + 1] - s[i0 + seg])
 
 
 @njit(cache=True, inline="always")
@@ -194,7 +212,8 @@ def _hermite_gap(i0, t, sgn, s, r, dr, d, R, y, amp, sb, cb, bs, u0, du, tabz, u
 
 
 @njit(cache=True, inline="always")
-def lowest_gap(gap, idx, n, ib, others, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
+def lowest_gap(gap, idx, n, ib, others, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max,
+               neighbours):
     """The smallest gap of one wheel's locus from its sample gaps ``gap[:n]`` (of the samples
     ``idx``, or of ``s[:n]`` itself when ``idx`` is empty) and the index ``ib`` of the smallest:
     the parabola through it and its neighbours (:func:`touch_height`) or, where the samples do
@@ -205,14 +224,26 @@ def lowest_gap(gap, idx, n, ib, others, sgn, s, r, dr, d, R, y, u0, du, tabz, u_
     NaN`` when no point is over the rail; the coordinate is NaN where the samples' parabola
     gives the gap (the caller has it). ``others``: False when the smallest is the only discrete
     minimum (a sample below its left neighbour and not above its right one, non-finite gaps
-    counting as +inf; the callers count them as they compute the gaps): none is looked for."""
+    counting as +inf; the callers count them as they compute the gaps): none is looked for.
+    ``neighbours``: also :func:`neighbour_dip` where the smallest is not resolved (the whole
+    profiles' heights, whose roots are the poses; not the roll scan's windows, which only
+    bracket them)."""
     if ib < 0:
         return np.inf, -1, np.nan
-    best, sbest = resampled_min(idx[ib] if idx.size else ib, gap[ib], sgn, s, r, dr, d, R, y, u0,
-                                du, tabz, u_min, u_max)
+    k = idx[ib] if idx.size else ib
+    best, sbest = resampled_min(k, gap[ib], sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
+    q_best = ib
+    j = -1
     if np.isnan(best):
         best = parabola_min(gap, ib, n)[0]
-    q_best = ib
+    elif neighbours:   # unresolved: a dip may lie next to a neighbour as low
+        g2, s2, j = neighbour_dip(k, best, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
+    if j >= 0:
+        best, sbest = g2, s2
+        if idx.size == 0:
+            q_best = j
+        elif 0 <= ib + j - k < n and idx[ib + j - k] == j:
+            q_best = ib + j - k
     limit = gap[ib] + DIP_BAND
     for q in range(n if others else 0):
         g = gap[q]
@@ -223,6 +254,38 @@ def lowest_gap(gap, idx, n, ib, others, sgn, s, r, dr, d, R, y, u0, du, tabz, u_
         if g2 < best:
             best, sbest, q_best = g2, s2, q
     return best, q_best, sbest
+
+
+@njit(cache=True)
+def neighbour_dip(k, best, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
+    """The sample intervals beyond the two samples next to the smallest, ``k``, resampled
+    (:func:`_span_min`) where the samples do not resolve its minimum (its own resampled gap,
+    over the two intervals next to it, is ``best``): ``(gap, profile coordinate, index of the
+    neighbour next to it)`` of the lower one when it lies below ``best``, else ``(inf, NaN,
+    -1)``.
+
+    Two neighbouring samples can be nearly equally low while a narrow dip lies on the far side
+    of one of them: around the smallest alone, the dip is resampled only while that one is the
+    smallest, and the touching height jumps by the dip's depth where the two swap. On a yawed
+    worn flange against a gauge face (``Car7358_0001r.whl`` on the Manchester ``.ban`` rail,
+    y = 5.5 mm, yaw 0.12 rad) it jumped by 89 um within 1e-9 rad of roll, and Brent's method
+    stopped on that jump: a "converged" root with the wheels 29 um apart in height."""
+    out, s_out, j_out = np.inf, np.nan, -1
+    a, b, c = R[0, 0], R[0, 1], R[0, 2]
+    amp = np.sqrt(a * a + c * c)
+    sb, cb, bs = c / amp, a / amp, b * sgn
+    for j, i0 in ((k - 1, k - 2), (k + 1, k + 1)):   # the interval beyond each neighbour
+        if i0 < 0 or i0 + 1 > s.size - 1:
+            continue
+        ga = _locus_gap(sgn, s[i0], r[i0], dr[i0], d, R, y, amp, sb, cb, bs, u0, du, tabz,
+                        u_min, u_max)
+        gb = _locus_gap(sgn, s[i0 + 1], r[i0 + 1], dr[i0 + 1], d, R, y, amp, sb, cb, bs, u0,
+                        du, tabz, u_min, u_max)
+        g2, s2 = _span_min(i0, 1, ga, gb, np.nan, sgn, s, r, dr, d, R, y, amp, sb, cb, bs, u0,
+                           du, tabz, u_min, u_max)
+        if g2 < best and g2 < out:
+            out, s_out, j_out = g2, s2, j
+    return out, s_out, j_out
 
 
 @njit(cache=True, inline="always")
@@ -266,7 +329,10 @@ def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ, res
     ``sin`` and ``cos`` of the locus angle ``beta + arcsin(x)`` by the angle-sum identity (one
     square root instead of three transcendental functions; equal to rounding). The points come
     first in one loop of plain arithmetic (vectorised; ``U``, ``PZ``: scratch of their lateral
-    coordinate and height), the rail's table and the minimum in a second."""
+    coordinate and height), the rail's table and the minimum in a second. ``resample``:
+    :data:`COARSE` (the scan's coarse samples: the parabola through the smallest),
+    :data:`WINDOW` (the scan's refinement windows: :func:`lowest_gap`) or :data:`WHOLE` (a
+    whole profile's samples: :func:`lowest_gap` with :func:`neighbour_dip`)."""
     a, b, c = R[0, 0], R[0, 1], R[0, 2]
     amp = np.sqrt(a * a + c * c)
     sb, cb = c / amp, a / amp  # sin(beta), cos(beta)
@@ -298,9 +364,9 @@ def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ, res
         if down and prev <= g:
             nmin += 1
         down, prev = g < prev, g
-    if resample:   # all samples (not the scan's coarse ones): as side_gaps
+    if resample != COARSE:   # all samples (not the scan's coarse ones): as side_gaps
         val, ib, _ = lowest_gap(gap, _NO_IDX, n, ib, nmin + down > 1, sgn, s, r, dr, d, R, y,
-                                u0, du, tabz, u_min, u_max)
+                                u0, du, tabz, u_min, u_max, resample == WHOLE)
         return -val, ib
     return touch_height(gap, ib, n)
 
@@ -481,7 +547,7 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
     the rail."""
     idx, s, r, dr, d, tab, lim, s_c, r_c, dr_c = side
     h, ib = run_gaps(sgn, s_c, r_c, dr_c, d, R, y, lim[0], lim[1], tab, lim[2], lim[3], gap, U,
-                     PZ, False)
+                     PZ, COARSE)
     if ib < 0:
         return h
     # the smallest coarse sample's own gap, not the parabola through it and its neighbours:
@@ -503,7 +569,7 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
                 continue  # not a coarse local minimum near the smallest
         lo, hi = max(idx[q] - step, 0), min(idx[q] + step + 1, s.size)
         h2, _ = run_gaps(sgn, s[lo:hi], r[lo:hi], dr[lo:hi], d, R, y, lim[0], lim[1], tab,
-                         lim[2], lim[3], fine, U, PZ, True)
+                         lim[2], lim[3], fine, U, PZ, WINDOW)
         h = max(h, h2)
     return h
 
@@ -785,7 +851,8 @@ LOCAL_OK, LOCAL_NONE, LOCAL_NOCONV, LOCAL_NAN = 0, 1, 2, 3
 @njit(cache=True)
 def dip_minima(gap, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
     """The whole locus's gaps ``gap`` (G at height 0) with every discrete minimum that
-    :func:`lowest_gap` resamples (the smallest and those within :data:`DIP_BAND` of it) set to
+    :func:`lowest_gap` resamples (the smallest, its neighbours where :func:`neighbour_dip`
+    finds a lower gap, and the minima within :data:`DIP_BAND` of it) set to
     its resampled gap where the samples do not resolve it, and those minima's profile
     coordinates (NaN elsewhere): what :func:`rigid_contacts` chooses and places the contacts
     by. Returns ``(gaps, s_fix)``."""
@@ -805,6 +872,12 @@ def dip_minima(gap, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max):
         g2, s2 = resampled_min(q, g, sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max)
         if not np.isnan(g2):
             out[q], s_fix[q] = g2, s2
+    # an unresolved smallest's neighbours, as lowest_gap resamples them (neighbour_dip)
+    if np.isfinite(s_fix[ib]):
+        g2, s2, j = neighbour_dip(ib, out[ib], sgn, s, r, dr, d, R, y, u0, du, tabz, u_min,
+                                  u_max)
+        if j >= 0:
+            out[j], s_fix[j] = g2, s2
     return out, s_fix
 
 

@@ -634,6 +634,31 @@ def test_a_dip_beside_a_sample_above_the_smallest_is_found():
     assert abs(mirror.z_g - rig.z_g) < 1e-12 and abs(mirror.roll + rig.roll) < 1e-12
 
 
+@pytest.mark.parametrize("yaw", [0.12, -0.12])
+def test_a_dip_beyond_a_neighbour_as_low_as_the_smallest_keeps_the_height_continuous(yaw):
+    """``Car7358_0001r.whl`` on the Manchester ``.ban`` rail left, ``whl_left_iter288.whl`` on
+    the ``.prr`` right, y = 5.5 mm, yaw +-0.12 rad: the left flange meets the gauge face in a
+    dip between two locus samples, next to two samples that are equally high. The smallest of
+    those two was resampled alone: while it was the one next to the dip the touching height
+    was right, and where the other took its place (1e-9 rad of roll away) the dip was missed
+    and the height fell by 89 um. Brent's method stopped on that jump: a root stored as
+    converged with the wheels 29 um apart in height (z_g 14 um low). Now the height is
+    continuous across the root (h within 1 nm either side of it, 1e-9 rad away), both wheels
+    touch (brute-force surface search, 0.1 um) and h's root is a root (1e-9 m)."""
+    sc = _two_pairs_scene("Car7358_0001r.whl", "MBench_UIC60_v3.ban", "whl_left_iter288.whl",
+                          "MBench_UIC60_v3.prr")
+    L, y = sc.locus, 5.5 * MM
+    rig = L.solve(y, yaw)
+    assert rig.success and not rig.at_end
+    zl, zr = L.heights(y, yaw, rig.roll)
+    assert abs(zl - zr) < 1e-9
+    for d in (-1e-9, 1e-9):
+        assert abs(L._h(y, yaw, rig.roll + d)) < 1e-9
+    for name in ("left", "right"):
+        g = _surface_min(sc, name, y, yaw, rig.roll, rig.z_g)[0]
+        assert abs(g) < 0.1e-6, f"{name}: {g * 1e6:+.3f} um"
+
+
 @pytest.mark.parametrize("y_mm, yaw", [(-6.0, -0.12 + 13 * 0.24 / 36),
                                        (-4.5, -0.12 + 5 * 0.24 / 36)])
 def test_a_resampled_flange_contact_lies_where_the_wheel_touches(y_mm, yaw):
