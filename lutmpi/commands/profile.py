@@ -31,6 +31,10 @@ def describe(p: Profile) -> list[str]:
            f"z = [{p.z.min() * 1e3:.3f}, {p.z.max() * 1e3:.3f}] mm",
            "spline        : " + ("interpolating" if p.smoothing == 0 else
                                   f"smoothing, lam = {p.smoothing:.3g} m^3")]
+    bulge = p.meta.get("spline_bulge")
+    if bulge:
+        out.append(f"spline bulge  : {bulge['mm']:.3f} mm out of monotone points between lines "
+                   f"{min(bulge['lines'])} and {max(bulge['lines'])} (a step in the data?)")
     trimmed = p.meta.get("trimmed")
     if trimmed and trimmed.get("points_dropped"):
         out.append(f"trimmed       : {trimmed['points_dropped']} of {trimmed['points_in_file']} "

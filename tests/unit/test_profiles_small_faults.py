@@ -74,3 +74,44 @@ def test_single_point_spike_on_a_tread_is_an_error_naming_its_line(tmp_path, rep
     read_profile(src)                                             # the original reads
     with pytest.raises(ProfileError, match=rf"spike\.whl:{line}: .* single-point spike, 5"):
         read_profile(path)
+
+
+def test_a_step_in_exact_data_warns_naming_its_lines(tmp_path, caplog):
+    """A rail head ``z = -y^2 / 200`` (mm) written every 0.5 mm with the points from y = 2 mm
+    on lowered by 0.3 mm, read as exact (plain text: the interpolating spline). Beside the
+    step the cubic rings out of the points around it (0.029 mm between y = 1.0 and 1.5 mm,
+    where the data fall monotonically: it must stay between them), and a contact can sit on
+    that bulge: a warning names the file, the two lines and the size, and ``profile show``
+    lists it. The same head without the step is quiet (a cubic through smooth data leaves the
+    points' range only at a turn, by ``h^2 kappa / 8`` = 0.3 um at its crown)."""
+    from lutmpi.commands.profile import describe
+
+    y = np.arange(-35.0, 35.01, 0.5)
+    z = -y * y / 200.0
+    z[y >= 2.0] -= 0.3
+    step = tmp_path / "step.txt"
+    step.write_text("# kind: rail\n" + "\n".join(f"{a:.6f} {b:.6f}" for a, b in zip(y, z))
+                    + "\n")
+    with caplog.at_level("WARNING", logger="lutmpi.profiles.validate"):
+        prof = read_profile(step)
+    k = int(np.flatnonzero(y == 1.0)[0])         # the point at y = 1 mm: file line k + 2
+    (rec,) = [r for r in caplog.records if "bulges" in r.getMessage()]
+    bulge = prof.meta["spline_bulge"]
+    assert sorted(bulge["lines"]) == [k + 2, k + 3]
+    assert f"around lines {k + 2} and {k + 3}" in rec.getMessage()
+    assert "step.txt" in rec.getMessage() and bulge["mm"] > 0.02
+    assert any(line.startswith("spline bulge") for line in describe(prof))
+    caplog.clear()
+    smooth = tmp_path / "smooth.txt"
+    smooth.write_text(_rail_text(y))
+    with caplog.at_level("WARNING", logger="lutmpi.profiles.validate"):
+        quiet = read_profile(smooth)
+    assert "spline_bulge" not in quiet.meta and not caplog.records
+
+
+@pytest.mark.parametrize("name", ["MBench_S1002_v3.prw", "MBench_UIC60_v3.prr"])
+def test_the_exact_shipped_files_do_not_bulge(repo_root, name, caplog):
+    """The Simpack files are exact (interpolating spline) and smooth: no bulge warning."""
+    with caplog.at_level("WARNING", logger="lutmpi.profiles.validate"):
+        prof = read_profile(repo_root / "profiles" / name)
+    assert prof.smoothing == 0.0 and "spline_bulge" not in prof.meta and not caplog.records
