@@ -52,6 +52,7 @@ from lutmpi.equilibrium.result import (
     MAX_ITER,
     NO_CONTACT,
     PROFILE_END,
+    RIGID_UNRESOLVED,
     SIDES,
     STATUS,
     WINDOW,
@@ -208,6 +209,10 @@ def advice(status: int, scene, message: str = "") -> str:
         PROFILE_END: ("the contact lies on the end of a profile's data: give a profile file that "
                       "extends further (gauge face / flange), or limit grid.y_mm to where the "
                       "data reach"),
+        RIGID_UNRESOLVED: ("the profiles meet in a gap minimum narrower than the contact "
+                           "locus's 0.1 mm samples resolve (a worn flange on a steep gauge "
+                           "face): check the profiles' data there; a mesh method's pose is not "
+                           "affected"),
         KC_LIMIT: (f"raise equilibrium.max_kc_N_per_m (now {eq.kc_max:.3g}) or "
                    f"contact.allowed_indentation_mm (now {eq.allowed_indentation / MM:g})"),
         MAX_ITER: f"raise equilibrium.max_iterations (now {eq.max_iterations})",

@@ -134,6 +134,10 @@ class RigidSolution:
     #: end circles of the wheels' data that reach into the rail off the locus
     #: (:meth:`LocusSolver.rim_check`): ``(side, s, phi, gap)`` each, m, rad, m (gap < 0)
     rim: tuple[tuple[str, float, float, float], ...] = ()
+    #: ``|z_left - z_right|`` at the root (m): the two wheels' touching heights of G on their
+    #: whole loci, equal at a root to rounding; above :data:`MISMATCH_M` the root lies on a jump
+    #: of a sampled height, not on a zero of the height mismatch (0 with the roll held)
+    mismatch: float = 0.0
 
 
 SCAN_DS = 1e-3  # m, wheel sample spacing of the roll scan
@@ -147,6 +151,10 @@ DIP_XTOL = 1e-7  # rad, tolerance of the extremum search between two scan points
 #: than this at the chosen root reaches into the rail off the locus (:meth:`LocusSolver.
 #: rim_check`); the root is then no contact of the surfaces the data describe
 RIM_TOL = 1e-6
+#: m: a root whose two touching heights differ by more than this is no root of the whole
+#: loci (:attr:`RigidSolution.mismatch`); converged roots agree to ~1e-13 m, and to 3.4 nm on
+#: the worn pairs of ``benchmarks/root_consistency.py``
+MISMATCH_M = 1e-7
 
 
 # -- one side ----------------------------------------------------------------------------------
@@ -503,9 +511,11 @@ class LocusSolver:
             phi, gap, height = full[4 * k: 4 * k + 3]  # G at height 0
             loci[name] = Locus(side=sd.sign, s=sd.samp.s, phi=phi, gap=gap)
             z_side.append(height)
+        mismatch = 0.0
         if z_g is None:
             z_g = 0.5 * (z_side[0] + z_side[1])
-        out = RigidSolution(y, yaw, z_g, roll, True, "converged", nit)
+            mismatch = abs(z_side[0] - z_side[1])
+        out = RigidSolution(y, yaw, z_g, roll, True, "converged", nit, mismatch=mismatch)
         # held roll: one contact per wheel, the minimum of its own gap
         mc = 1 if self.hold_roll else self.max_contacts
         R = rk.rotation(float(yaw), float(roll))

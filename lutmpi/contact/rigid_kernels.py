@@ -364,7 +364,7 @@ def run_gaps(sgn, s, r, dr, d, R, y, u0, du, tabz, u_min, u_max, gap, U, PZ, res
         if down and prev <= g:
             nmin += 1
         down, prev = g < prev, g
-    if resample != COARSE:   # all samples (not the scan's coarse ones): as side_gaps
+    if resample != COARSE:   # all samples (not the scan's coarse ones): the minima resampled
         val, ib, _ = lowest_gap(gap, _NO_IDX, n, ib, nmin + down > 1, sgn, s, r, dr, d, R, y,
                                 u0, du, tabz, u_min, u_max, resample == WHOLE)
         return -val, ib

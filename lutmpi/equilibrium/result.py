@@ -19,9 +19,11 @@ STATUS = {
     7: "error: an exception was raised while solving this point",
     8: "time_budget: the pose's wall-time budget (equilibrium.max_pose_time_s) ran out",
     9: "profile_end: a contact lies on or beyond the end of a profile's data",
+    10: "rigid_unresolved: the rigid root's two touching heights differ (a gap minimum the "
+        "contact locus's samples do not resolve)",
 }
 (CONVERGED, MAX_ITER, NO_CONTACT, KC_LIMIT, EQ_FAILED, WINDOW, NOT_COMPUTED, ERROR,
- TIME_BUDGET, PROFILE_END) = range(10)
+ TIME_BUDGET, PROFILE_END, RIGID_UNRESOLVED) = range(11)
 SIDES = ("left", "right")
 
 

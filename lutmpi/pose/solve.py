@@ -14,9 +14,9 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from lutmpi.contact.locus import RigidSolution
+from lutmpi.contact.locus import MISMATCH_M, RigidSolution
 from lutmpi.contact.methods import METHOD_NAMES, get_method
-from lutmpi.equilibrium.result import NO_CONTACT, PROFILE_END, STATUS, PoseResult
+from lutmpi.equilibrium.result import NO_CONTACT, PROFILE_END, RIGID_UNRESOLVED, STATUS, PoseResult
 from lutmpi.pose.mesh import solve_mesh_pose, warm_rare_paths
 from lutmpi.pose.rigid import rigid_result
 from lutmpi.table.schema import D
@@ -68,6 +68,12 @@ def solve_pose(
         # the data do not reach the contact: the numbers are kept, the status says why
         res.success, res.status = False, PROFILE_END
         res.message = f"{STATUS[PROFILE_END]} ({_end_text(rigid)})"
+    elif rigid.success and not m.uses_mesh and rigid.mismatch > MISMATCH_M:
+        # the reference's pose is the rigid root itself: one whose wheels are not both on
+        # their rails is no result (a mesh method only starts from it, and solves its own)
+        res.success, res.status = False, RIGID_UNRESOLVED
+        res.message = (f"{STATUS[RIGID_UNRESOLVED]}: the wheels' touching heights are "
+                       f"{rigid.mismatch * 1e6:.3f} um apart at roll {rigid.roll:.6g} rad")
     res.time = time.process_time() - t0
     return res
 

@@ -76,9 +76,10 @@ MIN_WIDTH_M = TOL_M
 #: their neighbours in the piece, not of the straight line: the wheelset's pose, smooth within a
 #: piece (it only kinks at a jump: :data:`lutmpi.table.interp.KINKING`), which the table
 #: always interpolates by that cubic (:func:`~lutmpi.table.interp.choose_modes`). Tested by
-#: the straight line, its curvature drew half the
-#: refinement's solves on the Manchester table (load centre, 37 x 9: 3 240 -> 2 260 solves
-#: without them), knots the cubic does not need (BENCHMARKS.md, 2026-11-27)
+#: the straight line, its curvature drew 42 % of the refinement's solves on the Manchester
+#: table (load centre, 37 x 9: the jump step's 3 240 solves, 905 of them the jump search's,
+#: fell to 2 260 without them), knots the cubic does not need (BENCHMARKS.md, 2026-11-27).
+#: Per-point (scalar) quantities only (:func:`_miss`)
 CUBIC_TESTED = KINKING
 #: a child interval is refined further only if its miss fell below this fraction of its parent's
 #: (a smooth function: 1/4 per halving, a kink: 1/2, a square-root onset next to a jump: 0.71;
@@ -398,14 +399,14 @@ def _miss(knots: Sequence[Knot | None], xm: float, rm: Record, tols: dict[str, A
     for name in REFINE_TOL:
         if name not in rm:
             continue
-        if np.ndim(rm[name]):            # per contact: the primary contact of each wheel
-            tol = np.broadcast_to(tols[name], (2,)).tolist()
-            rows = [(0.5 * (a + b), m, t) for (a, b, m), t
-                    in zip(_primaries((r0, r1, rm), name), tol, strict=True)]
-        elif name in CUBIC_TESTED:
+        if name in CUBIC_TESTED:         # a per-point quantity (float() refuses any other)
             given = [k for k in knots if k is not None]
             rows = [(pchip_mid([x for x, _ in given], [float(r[name]) for _, r in given],
                                knots[0] is not None, xm), float(rm[name]), float(tols[name]))]
+        elif np.ndim(rm[name]):          # per contact: the primary contact of each wheel
+            tol = np.broadcast_to(tols[name], (2,)).tolist()
+            rows = [(0.5 * (a + b), m, t) for (a, b, m), t
+                    in zip(_primaries((r0, r1, rm), name), tol, strict=True)]
         else:
             rows = [(0.5 * (float(r0[name]) + float(r1[name])), float(rm[name]),
                      float(tols[name]))]
@@ -537,12 +538,16 @@ def refinement_items(knots: Sequence[tuple[float, Record, int]], min_width: floa
 def neighbours(knots: Sequence[tuple[float, Record, int]], k: int
                ) -> tuple[Knot | None, Knot | None]:
     """The knots next to the pair ``(k, k + 1)`` of one column (:func:`column_knots`) in the
-    same piece, ``(y, record)`` each; None where the piece ends (the ``outer`` of
+    same piece and discrete state (status, contacts: a change the jump search left unlocated is
+    no neighbour), ``(y, record)`` each; None where the piece ends (the ``outer`` of
     :func:`refine_interval`)."""
-    piece = knots[k][2]
-    left = knots[k - 1][:2] if k > 0 and knots[k - 1][2] == piece else None
-    right = (knots[k + 2][:2] if k + 2 < len(knots) and knots[k + 2][2] == piece else None)
-    return left, right
+    piece, disc = knots[k][2], _disc(knots[k][1])
+
+    def same(i: int) -> bool:
+        return 0 <= i < len(knots) and knots[i][2] == piece and _disc(knots[i][1]) == disc
+
+    return (knots[k - 1][:2] if same(k - 1) else None,
+            knots[k + 2][:2] if same(k + 2) else None)
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 
 from lutmpi.errors import ProfileError
+from lutmpi.profiles.model import Profile
 from lutmpi.profiles.readers import read_profile
+from lutmpi.profiles.validate import spline_bulge
 
 
 def _rail_text(y: np.ndarray, fmt: str = "{:.6f} {:.6f}") -> str:
@@ -82,23 +84,24 @@ def test_a_step_in_exact_data_warns_naming_its_lines(tmp_path, caplog):
     step the cubic rings out of the points around it (0.029 mm between y = 1.0 and 1.5 mm,
     where the data fall monotonically: it must stay between them), and a contact can sit on
     that bulge: a warning names the file, the two lines and the size, and ``profile show``
-    lists it. The same head without the step is quiet (a cubic through smooth data leaves the
-    points' range only at a turn, by ``h^2 kappa / 8`` = 0.3 um at its crown)."""
+    lists it. The same head without the step is quiet, and so is a smooth crown of 5 mm
+    radius (a flange tip's) sampled every 1 mm: the cubic overshoots its top points by about
+    ``h^2 kappa / 8`` = 25 um where they turn, which is not a step."""
     from lutmpi.commands.profile import describe
 
     y = np.arange(-35.0, 35.01, 0.5)
     z = -y * y / 200.0
     z[y >= 2.0] -= 0.3
     step = tmp_path / "step.txt"
-    step.write_text("# kind: rail\n" + "\n".join(f"{a:.6f} {b:.6f}" for a, b in zip(y, z))
-                    + "\n")
+    step.write_text("# kind: rail\n" + "\n".join(f"{a:.6f} {b:.6f}" for a, b in
+                                                  zip(y, z, strict=True)) + "\n")
     with caplog.at_level("WARNING", logger="lutmpi.profiles.validate"):
         prof = read_profile(step)
     k = int(np.flatnonzero(y == 1.0)[0])         # the point at y = 1 mm: file line k + 2
     (rec,) = [r for r in caplog.records if "bulges" in r.getMessage()]
     bulge = prof.meta["spline_bulge"]
     assert sorted(bulge["lines"]) == [k + 2, k + 3]
-    assert f"around lines {k + 2} and {k + 3}" in rec.getMessage()
+    assert f"between lines {k + 2} and {k + 3}" in rec.getMessage()
     assert "step.txt" in rec.getMessage() and bulge["mm"] > 0.02
     assert any(line.startswith("spline bulge") for line in describe(prof))
     caplog.clear()
@@ -107,6 +110,11 @@ def test_a_step_in_exact_data_warns_naming_its_lines(tmp_path, caplog):
     with caplog.at_level("WARNING", logger="lutmpi.profiles.validate"):
         quiet = read_profile(smooth)
     assert "spline_bulge" not in quiet.meta and not caplog.records
+    yt = np.arange(-4.5, 4.51, 1.0) * 1e-3                 # the apex between two points, m
+    tip = Profile(kind="rail", y=yt, z=np.sqrt(25e-6 - yt * yt) - 5e-3)
+    top = tip.z_at(np.linspace(-0.5e-3, 0.5e-3, 101)).max() - tip.z.max()
+    assert 20e-6 < top < 30e-6                   # ~ h^2 kappa / 8 = 25 um above its points
+    assert spline_bulge(tip) == (0.0, -1)
 
 
 @pytest.mark.parametrize("name", ["MBench_S1002_v3.prw", "MBench_UIC60_v3.prr"])

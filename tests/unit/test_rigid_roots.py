@@ -659,6 +659,33 @@ def test_a_dip_beyond_a_neighbour_as_low_as_the_smallest_keeps_the_height_contin
         assert abs(g) < 0.1e-6, f"{name}: {g * 1e6:+.3f} um"
 
 
+def test_a_root_whose_wheels_do_not_both_touch_is_a_status_not_a_result():
+    """The reference's pose is the rigid root itself; where its two touching heights differ (a
+    root on a jump of a sampled height, the defect above) the pose is ``rigid_unresolved``, its
+    numbers kept, never ``converged``; a mesh method only starts there and keeps its own
+    status. No real pose of the measured pairs ends there any more (0 of 81 536,
+    ``benchmarks/root_consistency.py``), so the solver's memo is handed the rigid solution at a
+    roll 0.1 mrad off the Manchester root (the real ``finish``, heights ~0.15 mm apart)."""
+    from lutmpi.contact.locus import MISMATCH_M
+    from lutmpi.equilibrium.result import RIGID_UNRESOLVED
+
+    sc = Scene.from_config(load_config(CONFIGS / "manchester_s1002_uic60_1in40.toml"))
+    L, y, yaw = sc.locus, 3.0 * MM, 0.02
+    good = L.solve(y, yaw)
+    assert good.mismatch < 1e-12
+    assert solve_pose(sc, y, yaw, "reference").status == CONVERGED
+    off = L.finish(y, yaw, good.roll + 1e-4)
+    assert off.mismatch > 100 * MISMATCH_M
+    L._memo.clear()
+    L._memo[(y, yaw, 1e-13, 12)] = off
+    ref = solve_pose(sc, y, yaw, "reference")
+    assert ref.status == RIGID_UNRESOLVED and not ref.success
+    assert f"{off.mismatch * 1e6:.3f} um apart" in ref.message
+    assert ref.z_g == off.z_g                     # the numbers kept, the status says why
+    assert solve_pose(sc, y, yaw, "load_centre").status != RIGID_UNRESOLVED
+    L._memo.clear()
+
+
 @pytest.mark.parametrize("y_mm, yaw", [(-6.0, -0.12 + 13 * 0.24 / 36),
                                        (-4.5, -0.12 + 5 * 0.24 / 36)])
 def test_a_resampled_flange_contact_lies_where_the_wheel_touches(y_mm, yaw):
