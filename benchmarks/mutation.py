@@ -251,7 +251,7 @@ MUTATIONS: tuple[Mutation, ...] = (
       "only the smallest locus sample's neighbourhood resampled (a deeper dip beside a higher "
       "sample missed)"),
     M("dip_no_second_pass", "rigid roots", "lutmpi/contact/rigid_kernels.py",
-      "    if 0 < ib < 2 * m and (vals[ib - 1]", "    if False and (vals[ib - 1]", (T_ROOTS,),
+      "    if 0 < ib < nv - 1 and (vals[ib - 1]", "    if False and (vals[ib - 1]", (T_ROOTS,),
       "a dip sharper than the 10 um sub-samples taken from their parabola"),
     M("contact_on_samples", "rigid roots", "lutmpi/contact/rigid_kernels.py",
       "        if np.isfinite(s_fix[i]):", "        if False:", (T_ROOTS,),
@@ -308,9 +308,10 @@ MUTATIONS: tuple[Mutation, ...] = (
       "the pose (z_g, roll) refined against the straight line, not the table's cubic (the "
       "pre-2026-11-27 rule)"),
     M("neighbours_across_jump", "jump-aware tables", "lutmpi/table/jumps.py",
-      "    left = knots[k - 1][:2] if k > 0 and knots[k - 1][2] == piece else None\n",
-      "    left = knots[k - 1][:2] if k > 0 else None\n", (T_JUMPS,),
-      "the cubic of the pose's refinement reaches across a jump for its left neighbour"),
+      "        return 0 <= i < len(knots) and knots[i][2] == piece and _disc(knots[i][1])"
+      " == disc\n",
+      "        return 0 <= i < len(knots) and _disc(knots[i][1]) == disc\n", (T_JUMPS,),
+      "the cubic of the pose's refinement reaches across a jump for its neighbours"),
     M("pair_by_count", "jump-aware tables", "lutmpi/table/interp.py",
       "    if (na == nb and np.array_equal(sa, sb) and np.array_equal(a_near, np.arange(na))\n"
       "            and np.array_equal(b_near, np.arange(nb))):\n",

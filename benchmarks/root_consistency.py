@@ -25,8 +25,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from lutmpi.profiles import read_profile  # noqa: E402
-from lutmpi.profiles import wear  # noqa: E402
+from lutmpi.profiles import read_profile, wear  # noqa: E402
 from lutmpi.scene import Scene  # noqa: E402
 
 MM = 1e-3
