@@ -24,14 +24,12 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from rigid_surface_check import MM, RAILS, WHEELS  # noqa: E402  (the same measured pairs)
 
 from lutmpi.profiles import read_profile, wear  # noqa: E402
 from lutmpi.scene import Scene  # noqa: E402
-
-MM = 1e-3
-WHEELS = ("MBench_S1002_v3.prw", "avg_wheel.whl", "Car7216_0001r.whl", "Car7358_0001r.whl",
-          "whl_left_iter288.whl")
-RAILS = ("MBench_UIC60_v3.prr", "MBench_UIC60_v3.ban", "rail_left_iter288.ban")  # no cant
 
 
 def main() -> None:
