@@ -22,7 +22,10 @@ Algorithm, per yaw column and per grid cell ``[y_i, y_i+1]``:
    by more than :data:`CONFIRM_M`, is a jump; otherwise the cell was merely steep (the contact
    moving fast but continuously), and nothing is stored.
 4. The two sub-intervals left of ``lo`` and right of ``hi`` are searched again (a cell can hold
-   several jumps: the second contact of a double contact appears, takes the larger force, goes).
+   several jumps: the second contact of a double contact appears, takes the larger force, goes),
+   the bisection taking the poses already solved inside its bracket before solving new ones
+   (the jumps of such a cluster lie micrometres apart: bisected from the whole sub-interval
+   again, each cost as many solves as the first).
 
 5. *Refinement* (:func:`refine_interval`): between neighbouring knots of one piece (grid nodes,
    bisection samples, bracket ends) the midpoint is solved; where the table's interpolant
@@ -270,19 +273,32 @@ def refine_cell(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.
     rlo, rhi = _node(arrays, i, j), _node(arrays, i + 1, j)
     if not classify(_keys(rlo), _keys(rhi), threshold)[0]:
         threshold = confirm       # a candidate by its sudden movement (:func:`_sudden`)
-    found = _search(lo, rlo, hi, rhi, sampled, j, tol, threshold, confirm, MAX_PER_CELL)
+    found = _search(lo, rlo, hi, rhi, sampled, j, tol, threshold, confirm, MAX_PER_CELL,
+                    samples)
     return found, samples
 
 
 def _search(lo: float, rlo: Record, hi: float, rhi: Record, solve: Callable[[float], Record],
-            j: int, tol: float, threshold: float, confirm: float, budget: int) -> list[Jump]:
+            j: int, tol: float, threshold: float, confirm: float, budget: int,
+            known: Sequence[tuple[float, Record]] = ()) -> list[Jump]:
+    """The jumps between ``lo`` and ``hi`` (:func:`refine_cell`'s steps 2-4). ``known``: the
+    poses the cell's search has solved so far (``(y, record)``, a list the search appends
+    to); while one lies inside the bracket, the bisection takes the one nearest its middle
+    instead of solving the middle (the same rule, at a point already solved), so that the
+    second and third jump of a cluster (a second contact appearing, the contact moving over,
+    the first contact going, within micrometres) are not bisected again from the whole
+    sub-interval."""
     klo, khi = _keys(rlo), _keys(rhi)
     if budget <= 0 or not classify(klo, khi, threshold)[0]:
         return []
     a, ra, ka, b, rb, kb = lo, rlo, klo, hi, rhi, khi
     while b - a > tol:
-        m = a + 0.5 * (b - a)
-        rm = solve(m)
+        mid = a + 0.5 * (b - a)
+        inside = [(y, r) for y, r in known if a < y < b]
+        if inside:
+            m, rm = min(inside, key=lambda p: (abs(p[0] - mid), p[0]))
+        else:
+            m, rm = mid, solve(mid)
         km = _keys(rm)
         if _distance(km, ka) <= _distance(km, kb):
             a, ra, ka = m, rm, km
@@ -292,9 +308,9 @@ def _search(lo: float, rlo: Record, hi: float, rhi: Record, solve: Callable[[flo
     if not kind:
         return []
     found = Jump(j, a, b, ra, rb, kind, side)
-    left = _search(lo, rlo, a, ra, solve, j, tol, threshold, confirm, budget - 1)
+    left = _search(lo, rlo, a, ra, solve, j, tol, threshold, confirm, budget - 1, known)
     right = _search(b, rb, hi, rhi, solve, j, tol, threshold, confirm,
-                    budget - 1 - len(left))
+                    budget - 1 - len(left), known)
     return left + [found] + right
 
 

@@ -138,6 +138,40 @@ def test_a_small_jump_on_a_slowly_moving_contact_is_located():
     assert js.arrays["jump_kind"][0, 0] == 1 and js.arrays["jump_side"][0, 0] == 1
 
 
+def test_a_cluster_of_jumps_is_located_from_the_poses_already_solved():
+    """A second contact appears, the primary contact moves over to the flange, the second
+    contact goes, within 15 um of one cell (as on the Manchester pair's flange root). Each
+    jump is located within the tolerance; the second and third are bisected from the poses the
+    first search solved next to them, not from the whole cell again: 10 solves for the three
+    (the cell bisected afresh for each cost 15)."""
+    at = (1.234e-3, 1.2412e-3, 1.2483e-3)
+
+    def cluster(y: float, yaw: float) -> dict[str, np.ndarray]:
+        rec = synthetic(y, yaw)
+        s = 2 * y if y < at[1] else -0.03 + y
+        rec["wheel_s"][:, 0] = [s, -y]
+        rec["rail_v"][:, 0] = [s, y]
+        rec["n_contacts"] = np.array([2 if at[0] <= y < at[2] else 1, 1], np.int8)
+        return rec
+
+    y_axis, yaw_axis = np.linspace(-4e-3, 4e-3, 17), np.array([0.0])
+    out = {f.name: f.empty((y_axis.size, 1)) for f in FLDS}
+    for i, y in enumerate(y_axis):
+        for name, v in cluster(float(y), 0.0).items():
+            out[name][i, 0] = v
+    calls = []
+
+    def solve(y: float, yaw: float) -> dict[str, np.ndarray]:
+        calls.append(y)
+        return cluster(y, yaw)
+
+    js = tj.locate_jumps(out, y_axis, yaw_axis, solve, FLDS, refine=False)
+    assert js.count.tolist() == [3]
+    assert np.abs(js.arrays["jump_y"][0, :3] - np.array(at)).max() <= tj.TOL_M / 2
+    assert js.arrays["jump_kind"][0, :3].tolist() == [2, 1, 2]
+    assert len(calls) <= 10
+
+
 def test_outside_the_grid_is_flagged_with_nan(synthetic_table):
     _, _, _, _, ip, _ = synthetic_table
     value, _, _, flags, piece, _ = ip.evaluate(np.array([0.0, 5e-3, 0.0, np.nan]),
