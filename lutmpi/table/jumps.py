@@ -25,7 +25,8 @@ Algorithm, per yaw column and per grid cell ``[y_i, y_i+1]``:
    several jumps: the second contact of a double contact appears, takes the larger force, goes),
    the bisection taking the poses already solved inside its bracket before solving new ones
    (the jumps of such a cluster lie micrometres apart: bisected from the whole sub-interval
-   again, each cost as many solves as the first).
+   again, each cost nearly as many solves as the first). Changes that cancel between two
+   solved poses (the contact count flickering within micrometres) are not looked for.
 
 5. *Refinement* (:func:`refine_interval`): between neighbouring knots of one piece (grid nodes,
    bisection samples, bracket ends) the midpoint is solved; where the table's interpolant
@@ -282,12 +283,13 @@ def _search(lo: float, rlo: Record, hi: float, rhi: Record, solve: Callable[[flo
             j: int, tol: float, threshold: float, confirm: float, budget: int,
             known: Sequence[tuple[float, Record]] = ()) -> list[Jump]:
     """The jumps between ``lo`` and ``hi`` (:func:`refine_cell`'s steps 2-4). ``known``: the
-    poses the cell's search has solved so far (``(y, record)``, a list the search appends
-    to); while one lies inside the bracket, the bisection takes the one nearest its middle
-    instead of solving the middle (the same rule, at a point already solved), so that the
-    second and third jump of a cluster (a second contact appearing, the contact moving over,
-    the first contact going, within micrometres) are not bisected again from the whole
-    sub-interval."""
+    poses the cell's search has solved so far (``(y, record)``: the list that ``solve``
+    appends each of its solves to, :func:`refine_cell`'s ``samples``, so that the later
+    searches see the earlier ones' poses); while one lies inside the bracket, the bisection
+    takes the one nearest its middle instead of solving the middle (the same rule, at a point
+    already solved), so that the second and third jump of a cluster (a second contact
+    appearing, the contact moving over, the first contact going, within micrometres) are not
+    bisected again from the whole sub-interval."""
     klo, khi = _keys(rlo), _keys(rhi)
     if budget <= 0 or not classify(klo, khi, threshold)[0]:
         return []
