@@ -23,6 +23,14 @@ contact jumps, which no grid-only solver does), and the numpy solver's deviation
 table's z_g and roll (a sanity check that it solves the same problem: a few µm, its angular
 grid).
 
+``--pinned ROUNDS`` measures both at once instead, the build on one core and the numpy solver
+on the other for the whole of the build (cores swapped every round; the numpy solver's time is
+that of the grid at the rate it ran meanwhile): on a VM whose speed drifts by tens of percent
+within minutes, two runs one after the other compare two machines. Each run then slows the
+other (shared cache and memory; on the 2-core Intel VM of 2026-11-27 the build by ~20 %, more
+than the numpy solver), so the pinned ratio is higher than the quiet machine's: it is the
+figure to compare two trees or two runs by, not the issue's absolute one.
+
 ``--grid-only`` also builds the config with ``[output] jumps = false`` (the table of the grid's
 points only, what a tool that reads the grid and interpolates by itself needs) in each round and
 prints its whole command's ratio.
@@ -114,13 +122,15 @@ class NumpyRigid:
         return 0.5 * (zl + zr), x1
 
 
-def run_build(config: str, out: Path) -> tuple[float, float]:
-    """Wall time of ``lutmpi build CONFIG`` on one rank, and the part of it after the grid (the
-    jump step and the final write, from the build's log), s."""
+def run_build(config: str, out: Path, core: int | None = None) -> tuple[float, float]:
+    """Wall time of ``lutmpi build CONFIG`` on one rank (on core ``core`` when given), and the
+    part of it after the grid (the jump step and the final write, from the build's log), s."""
     env = dict(os.environ, PYTHONPATH=str(ROOT), OMP_NUM_THREADS="1")
+    cmd = [str(ROOT / ".venv/bin/lutmpi"), "build", config, "-o", str(out), "--force"]
+    if core is not None:
+        cmd = ["taskset", "-c", str(core), *cmd]
     t0 = time.perf_counter()
-    res = subprocess.run([str(ROOT / ".venv/bin/lutmpi"), "build", config, "-o", str(out),
-                          "--force"], capture_output=True, text=True, env=env, cwd=str(ROOT))
+    res = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=str(ROOT))
     wall = time.perf_counter() - t0
     if res.returncode != 0:
         sys.exit(f"lutmpi build failed:\n{res.stderr[-3000:]}")
@@ -130,17 +140,76 @@ def run_build(config: str, out: Path) -> tuple[float, float]:
     return wall, float(after.group(1))
 
 
+def _numpy_worker(config: str, core: int, stop, out) -> None:  # noqa: ANN001 - mp objects
+    """``--pinned``: the numpy solver on core ``core``, pose after pose over the grid (again
+    and again) until ``stop`` is set; puts the end time of every pose into ``out``."""
+    os.sched_setaffinity(0, {core})
+    cfg = load_config(config)
+    grid = Grid.from_config(cfg.grid)
+    solver = NumpyRigid(Scene.from_config(cfg))
+    poses = [(y, yaw) for y in grid.y for yaw in grid.yaw]
+    solver.solve(*poses[0])
+    ends = []
+    out.put("ready")
+    k = 0
+    while not stop.is_set():
+        solver.solve(*poses[k % len(poses)])
+        ends.append(time.perf_counter())
+        k += 1
+    out.put(ends)
+
+
+def pinned_round(config: str, out: Path, build_core: int) -> tuple[float, float, float]:
+    """The build on core ``build_core`` while the numpy solver runs on the other core for the
+    whole of it (a drift of the machine's speed then hits both alike). Returns the build's
+    wall time, the part after its grid, and the numpy solver's time for the whole grid at
+    the rate it ran during the build (poses completed in the build's window, s)."""
+    import multiprocessing as mp
+
+    ctx = mp.get_context("spawn")
+    stop, q = ctx.Event(), ctx.Queue()
+    proc = ctx.Process(target=_numpy_worker, args=(config, 1 - build_core, stop, q))
+    proc.start()
+    if q.get() != "ready":
+        sys.exit("numpy worker failed to start")
+    t0 = time.perf_counter()
+    wall, after = run_build(config, out, core=build_core)
+    t1 = time.perf_counter()
+    stop.set()
+    ends = np.array(q.get())
+    proc.join()
+    done = ends[(ends > t0) & (ends <= t1)]
+    if done.size < 2:
+        sys.exit("the numpy solver completed fewer than two poses during the build")
+    n_points = Grid.from_config(load_config(config).grid).n_points
+    per_pose = (done[-1] - done[0]) / (done.size - 1)
+    return wall, after, per_pose * n_points
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config")
     ap.add_argument("--repeat", type=int, default=1, help="take the best of this many runs")
     ap.add_argument("--grid-only", action="store_true",
                     help="also build with [output] jumps = false and print its ratio")
+    ap.add_argument("--pinned", type=int, default=0, metavar="ROUNDS",
+                    help="instead: ROUNDS rounds of the build on one core while the numpy "
+                         "solver runs on the other for the whole of it (cores swapped each "
+                         "round); the ratio per round (needs two cores)")
     a = ap.parse_args()
     cfg = load_config(a.config)
     grid = Grid.from_config(cfg.grid)
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  load {os.getloadavg()}  "
           f"{a.config}: {grid.shape[0]} x {grid.shape[1]} poses")
+    if a.pinned:
+        tmp = Path(tempfile.mkdtemp(prefix="lutmpi-ratio-"))
+        for r in range(a.pinned):
+            wall, after, numpy_s = pinned_round(a.config, tmp / "t.h5", r % 2)
+            print(f"round {r + 1} (build on core {r % 2}): whole command {wall:.2f} s, up to "
+                  f"the end of its grid {wall - after:.2f} s; numpy solver {numpy_s:.2f} s "
+                  f"for the grid at its rate meanwhile; ratio {wall / numpy_s:.2f}, up to the "
+                  f"end of the grid {(wall - after) / numpy_s:.2f}")
+        return
     solver = NumpyRigid(Scene.from_config(cfg))
     tmp = Path(tempfile.mkdtemp(prefix="lutmpi-ratio-"))
     builds, grids, numpys, plain = [], [], [], []
