@@ -241,8 +241,9 @@ def test_changed_profile_refused_same_content_elsewhere_resumes(reference, tmp_p
 def test_second_build_on_same_output_refused_at_once_first_completes(reference, tmp_path):
     cfg, ref = reference
     out = tmp_path / "t.h5"
-    # slow enough (~10-20 s) to be still running when the second build's mpirun is up
-    first = start_build(cfg, out, 2, LUTMPI_FAULT="sleep=0.12")
+    # the grid slow enough (~20 s on 2 ranks) to be still running when the second build's mpirun is
+    # up; the jump step after it (~700 solves between the 3 mm grid nodes) at full speed
+    first = start_build(cfg, out, 2, LUTMPI_FAULT="gridsleep=0.2/3")
     _wait_for_points(first, out, 2)
     t0 = time.monotonic()
     second = build(cfg, out, 2, "--force", timeout=60)
@@ -251,8 +252,6 @@ def test_second_build_on_same_output_refused_at_once_first_completes(reference, 
     assert second.returncode != 0
     assert "being written by another lutmpi build (pid" in second.stderr, second.stderr
     assert elapsed < 15, elapsed            # refused before any compute (mpirun start-up only)
-    # the post-build jump step solves more poses (bisection, refinement), each slowed by the
-    # injected sleep too: ~2-3x the grid's solves for this closed-form solver
     _, stderr = first.communicate(timeout=400)
     assert first.returncode == 0, stderr
     assert differences(ref, out) == []

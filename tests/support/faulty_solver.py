@@ -8,6 +8,9 @@ tests.support.faulty_solver:solve`` (the module's ``make_scene`` replaces the re
 ``raise@Y_MM/YAW``   raise RuntimeError when solving the pose (y = Y_MM mm, yaw = YAW rad)
 ``kill@Y_MM/YAW``    SIGKILL this process at that pose
 ``sleep=S``          sleep ``S * (1 + 4 |y| / 9 mm)`` seconds per solve (flange points cost more)
+``gridsleep=S/STEP`` the same, only at poses whose y is a multiple of ``STEP`` mm (a grid's
+                     nodes): the jump step after the grid, which solves between them, runs
+                     at full speed
 """
 
 from __future__ import annotations
@@ -50,6 +53,11 @@ def _inject(y: float, yaw: float) -> None:
     for kind, where in _faults():
         if kind == "sleep":
             time.sleep(float(where) * (1.0 + 4.0 * abs(y) / 9e-3))
+        elif kind == "gridsleep":
+            pause, step = (float(v) for v in where.split("/"))
+            q = y * 1e3 / step
+            if math.isclose(q, round(q), abs_tol=1e-9):
+                time.sleep(pause * (1.0 + 4.0 * abs(y) / 9e-3))
         elif kind == "raise" and _at(where, y, yaw):
             raise RuntimeError(f"injected fault at y={y}, yaw={yaw}")
         elif kind == "kill" and _at(where, y, yaw):
