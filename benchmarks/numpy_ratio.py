@@ -159,7 +159,8 @@ def _numpy_worker(config: str, core: int, stop, out) -> None:  # noqa: ANN001 - 
     out.put(ends)
 
 
-def pinned_round(config: str, out: Path, build_core: int) -> tuple[float, float, float]:
+def pinned_round(config: str, out: Path, build_core: int, n_points: int
+                 ) -> tuple[float, float, float]:
     """The build on core ``build_core`` while the numpy solver runs on the other core for the
     whole of it (a drift of the machine's speed then hits both alike). Returns the build's
     wall time, the part after its grid, and the numpy solver's time for the whole grid at
@@ -181,7 +182,6 @@ def pinned_round(config: str, out: Path, build_core: int) -> tuple[float, float,
     done = ends[(ends > t0) & (ends <= t1)]
     if done.size < 2:
         sys.exit("the numpy solver completed fewer than two poses during the build")
-    n_points = Grid.from_config(load_config(config).grid).n_points
     per_pose = (done[-1] - done[0]) / (done.size - 1)
     return wall, after, per_pose * n_points
 
@@ -204,7 +204,7 @@ def main() -> None:
     if a.pinned:
         tmp = Path(tempfile.mkdtemp(prefix="lutmpi-ratio-"))
         for r in range(a.pinned):
-            wall, after, numpy_s = pinned_round(a.config, tmp / "t.h5", r % 2)
+            wall, after, numpy_s = pinned_round(a.config, tmp / "t.h5", r % 2, grid.n_points)
             print(f"round {r + 1} (build on core {r % 2}): whole command {wall:.2f} s, up to "
                   f"the end of its grid {wall - after:.2f} s; numpy solver {numpy_s:.2f} s "
                   f"for the grid at its rate meanwhile; ratio {wall / numpy_s:.2f}, up to the "

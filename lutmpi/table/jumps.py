@@ -281,7 +281,7 @@ def refine_cell(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.
 
 def _search(lo: float, rlo: Record, hi: float, rhi: Record, solve: Callable[[float], Record],
             j: int, tol: float, threshold: float, confirm: float, budget: int,
-            known: Sequence[tuple[float, Record]] = ()) -> list[Jump]:
+            known: Sequence[tuple[float, Record]]) -> list[Jump]:
     """The jumps between ``lo`` and ``hi`` (:func:`refine_cell`'s steps 2-4). ``known``: the
     poses the cell's search has solved so far (``(y, record)``: the list that ``solve``
     appends each of its solves to, :func:`refine_cell`'s ``samples``, so that the later
