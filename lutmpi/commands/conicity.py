@@ -135,7 +135,7 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     import dataclasses
 
     from lutmpi.config import load_config
-    from lutmpi.parallel.jumps_step import mesh_resolution
+    from lutmpi.parallel.jumps_step import mesh_resolution, mirror_of
     from lutmpi.reports.conicity import dr_from_table
     from lutmpi.scene import Scene
     from lutmpi.table import jumps as tj
@@ -165,7 +165,8 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     stored = {}
     if cfg.output.jumps:
         js = tj.locate_jumps(group, grid.y, grid.yaw, solve, fields, refine=cfg.output.refine,
-                             mesh=mesh_resolution(scene, name), scale=cfg.output.refine_scale)
+                             mesh=mesh_resolution(scene, name), scale=cfg.output.refine_scale,
+                             mirror=mirror_of(cfg, scene, solver, grid.y, grid.yaw)[0])
         stored = {name: {"arrays": {**js.arrays, J.knot_y: js.knot_y}, KNOTS_GROUP: js.knots,
                          LIMITS_GROUP: js.limits}}
     y, dr = dr_from_table({"y": grid.y, "yaw": grid.yaw, "methods": {name: group},

@@ -86,8 +86,9 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         mesh = mesh_resolution(scene, method)
         # the grid nodes as the search sees them: the fields a solved record holds (not timing)
         limits = {f.name: arrays[f.name] for f in lfields}
-        js, n_cells = _locate(comm, grid, limits, solve, lfields, config.output.refine, mesh,
-                              split, config.output.refine_scale)
+        mirror, why = mirror_of(config, scene, solver, grid.y, grid.yaw)
+        js, n_cells, counts = _locate(comm, grid, limits, solve, lfields, config.output.refine,
+                                      mesh, split, config.output.refine_scale, mirror)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
@@ -99,6 +100,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
             "refine_mesh_centroid": bool(mesh is not None and mesh.centroid),
             "refine_mesh_step_fraction": _jumps.MESH_STEP_FRACTION,
             "refine_scale": float(config.output.refine_scale),
+            "mirrored": mirror is not None,
             # the same value on every rank (collective metadata): rank 0's
             "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
         if comm.rank == 0:
@@ -106,6 +108,13 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
                      "interpolants %s", method, n_cells, int(js.count.sum()),
                      int(js.count.max(initial=0)), int(np.isfinite(js.knot_y).sum()),
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
+            if mirror is not None:
+                log.info("%s: mirrored (%s): %d of %d candidate cells and %d of %d refined "
+                         "intervals taken from their images, not solved", method, why,
+                         counts["cells_mirrored"], counts["cells"], counts["intervals_mirrored"],
+                         counts["intervals"])
+            else:
+                log.info("%s: not mirrored: %s", method, why)
     wheels, _ = side_profiles(config)
     h5io.write_root_attributes(f, _jumps.dynamics_attributes(config, wheels))
     _log_work(comm, time.perf_counter() - t0, spent)
@@ -124,6 +133,28 @@ def _log_work(comm: Any, wall: float, spent: list) -> None:
                  sum(n for _, n in busy), [round(b, 2) for b, _ in busy],
                  total / wall if wall > 0 else 0.0,
                  100 * total / (comm.size * wall) if wall > 0 else 0.0)
+
+
+def mirror_of(config: Any, scene: Any, solver: Any, y_axis: np.ndarray, yaw_axis: np.ndarray
+              ) -> tuple[_jumps.Mirror | None, str]:
+    """The grid's :class:`~lutmpi.table.jumps.Mirror` when the jump step may reflect
+    (``output.mirror``, lutmpi's own solver, a grid symmetric about yaw = 0, or about y = 0 on
+    a scene whose two sides are one wheel profile on one rail profile), else None; and the
+    reflections or why none, in words for the build log."""
+    from lutmpi.scene import Scene
+    from lutmpi.table.compute import PoseSolver
+
+    if not config.output.mirror:
+        return None, "output.mirror = false"
+    if not isinstance(solver, PoseSolver) or not isinstance(scene, Scene):
+        return None, "a solver hook solves the poses (its symmetry is unknown)"
+    mirror = _jumps.Mirror.of(y_axis, yaw_axis, scene.symmetric)
+    pair = ("a symmetric pair" if scene.symmetric else
+            "the two sides' wheel or rail profiles (or their placing) differ")
+    if mirror is None:
+        return None, (f"the grid is not symmetric about yaw = 0 or y = 0 (within "
+                      f"{_jumps.MIRROR_AXIS_TOL:g}; {pair})")
+    return mirror, f"{mirror.describe()}; {pair}"
 
 
 def mesh_resolution(scene: Any, method: str) -> _jumps.MeshResolution | None:
@@ -207,26 +238,30 @@ def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
             refine: bool, mesh: _jumps.MeshResolution | None, split: str = "dynamic",
-            scale: float = 1.0) -> tuple[_jumps.JumpSet, int]:
+            scale: float = 1.0, mirror: _jumps.Mirror | None = None
+            ) -> tuple[_jumps.JumpSet, int, dict[str, int]]:
     """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
-    interval with the factor ``scale`` on its tolerances, both shared among the ranks."""
+    interval with the factor ``scale`` on its tolerances, both shared among the ranks;
+    ``mirror``: the cells and intervals that are another's mirror image mirrored, not solved
+    (:func:`lutmpi.table.jumps.mirrored_map`). Returns the jumps, the number of candidate cells
+    and what was solved and mirrored (counts of cells and intervals)."""
     t0 = time.perf_counter()
     cells = _jumps.candidate_cells(arrays)
-    res = _share(comm, cells, lambda c: _jumps.refine_cell(arrays, grid.y, grid.yaw, c, solve),
-                 split)
+    cell_pairs = mirror.cells(cells) if mirror else {}
+    res = _jumps.mirrored_map(cells, lambda todo: _share(comm, todo, lambda c: _jumps.refine_cell(
+        arrays, grid.y, grid.yaw, c, solve), split), cell_pairs, mirror and mirror.cell_result)
     t1 = time.perf_counter()
-    found = [jp for jps, _ in res for jp in jps]
-    extra = [(c[0], y, r) for c, (_, samples) in zip(cells, res, strict=True) for y, r in samples]
-    items = []
-    for j in range(grid.yaw.size if refine else 0):
-        knots = _jumps.column_knots(arrays, grid.y, j, found,
-                                    [(y, r) for jj, y, r in extra if jj == j])
-        items += [(j, knots[k], knots[k + 1], _jumps.neighbours(knots, k))
-                  for k in _jumps.refinement_items(knots)]
-    refined = _share(comm, items, lambda it: _jumps.refine_interval(
-        it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]), solve, mesh=mesh,
-        scale=scale, outer=it[3]), split)
+    found, extra = _jumps.found_and_samples(cells, res)
+    items = (_jumps.refinement_plan(arrays, grid.y, grid.yaw.size, found, extra) if refine
+             else [])
+    item_pairs = mirror.items(items) if mirror else {}
+    refined = _jumps.mirrored_map(items, lambda todo: _share(comm, todo, lambda it: (
+        _jumps.refine_interval(it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]),
+                               solve, mesh=mesh, scale=scale, outer=it[3])), split),
+        item_pairs, mirror and mirror.samples)
     log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),
               t1 - t0, len(items), time.perf_counter() - t1)
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
-    return _jumps.assemble(found, extra, grid.yaw.size, fields), len(cells)
+    counts = {"cells": len(cells), "cells_mirrored": len(cell_pairs), "intervals": len(items),
+              "intervals_mirrored": len(item_pairs)}
+    return _jumps.assemble(found, extra, grid.yaw.size, fields), len(cells), counts

@@ -37,6 +37,14 @@ Algorithm, per yaw column and per grid cell ``[y_i, y_i+1]``:
    does not fall, so noise is not chased). Every pose solved after the build is kept as an
    extra knot of its column: the table is the grid plus what the jumps and the curvature of
    the contact needed.
+6. *Mirror* (:class:`Mirror`): a wheel is a body of revolution and a rail an extrusion along
+   x, so the pose (y, -yaw) is the pose (y, yaw) reflected in the track's y-z plane, for any
+   pair; on a symmetric pair (both wheels one profile on one rail profile) the pose (-y, -yaw)
+   is the pose (y, yaw) with the wheels swapped, and (-y, yaw) both
+   (:meth:`lutmpi.table.schema.Field.reflected`). On a grid symmetric about zero in yaw (and
+   in y), a cell or an interval that is the image of another searched or refined takes that
+   one's poses reflected instead of solving its own: half the solves (a quarter on a symmetric
+   pair), the same table to rounding.
 
 The states at ``lo`` and ``hi`` are full pose records: the one-sided limits of every stored
 quantity. Everything depends only on the table and the solver, never on who solved what, so the
@@ -46,14 +54,14 @@ result is the same for any number of ranks (:func:`refine_cells` takes any subse
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from lutmpi.table.interp import KINKING
-from lutmpi.table.schema import JUMP_FIELDS, D, Field, J
+from lutmpi.table.schema import FIELDS_BY_NAME, JUMP_FIELDS, D, Field, J
 
 #: primary contact point movement (m) between neighbours that makes a cell a candidate
 CANDIDATE_M = 2e-3
@@ -631,27 +639,237 @@ def assemble(jumps: Sequence[Jump], extra: Sequence[tuple[int, float, Record]], 
 def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.ndarray,
                  solve: PoseSolver, fields: Sequence[Field], *, refine: bool = True,
                  mesh: MeshResolution | None = None, scale: float = 1.0,
-                 **kw: Any) -> JumpSet:
+                 mirror: Mirror | None = None, **kw: Any) -> JumpSet:
     """Every jump of one method of a table, and the refinement knots, serially (the steps the
     build runs in parallel: :func:`candidate_cells`, :func:`refine_cell`, :func:`column_knots`,
-    :func:`refine_interval` with the factor ``scale`` on its tolerances, :func:`assemble`)."""
-    found: list[Jump] = []
-    extra: list[tuple[int, float, Record]] = []
-    for cell in candidate_cells(arrays, kw.get("threshold", CANDIDATE_M)):
-        jps, samples = refine_cell(arrays, y_axis, yaw_axis, cell, solve, **kw)
-        found += jps
-        extra += [(cell[0], y, r) for y, r in samples]
+    :func:`refine_interval` with the factor ``scale`` on its tolerances, :func:`assemble`;
+    ``mirror``: the cells and intervals that are another's mirror image mirrored, not
+    solved)."""
+    cells = candidate_cells(arrays, kw.get("threshold", CANDIDATE_M))
+    res = mirrored_map(cells, lambda todo: [refine_cell(arrays, y_axis, yaw_axis, c, solve, **kw)
+                                            for c in todo], mirror and mirror.cells(cells),
+                       mirror and mirror.cell_result)
+    found, extra = found_and_samples(cells, res)
     if refine:
-        for j in range(yaw_axis.size):
-            knots = column_knots(arrays, y_axis, j, found,
-                                 [(y, r) for jj, y, r in extra if jj == j])
-            for k in refinement_items(knots):
-                (x0, r0, _), (x1, r1, _) = knots[k], knots[k + 1]
-                extra += [(j, y, r) for y, r in
-                          refine_interval(x0, r0, x1, r1, float(yaw_axis[j]), solve,
-                                          mesh=mesh, scale=scale,
-                                          outer=neighbours(knots, k))]
+        items = refinement_plan(arrays, y_axis, yaw_axis.size, found, extra)
+        refined = mirrored_map(items, lambda todo: [refine_interval(
+            x0, r0, x1, r1, float(yaw_axis[j]), solve, mesh=mesh, scale=scale, outer=outer)
+            for j, (x0, r0), (x1, r1), outer in todo], mirror and mirror.items(items),
+            mirror and mirror.samples)
+        extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
     return assemble(found, extra, yaw_axis.size, fields)
+
+
+#: one refinement interval: ``(iyaw, (x0, r0), (x1, r1), outer)`` (:func:`refine_interval`'s
+#: ends and outer knots)
+Item = tuple[int, Knot, Knot, tuple[Knot | None, Knot | None]]
+
+
+def found_and_samples(cells: Sequence[tuple[int, int]],
+                      res: Sequence[tuple[list[Jump], list[tuple[float, Record]]]]
+                      ) -> tuple[list[Jump], list[tuple[int, float, Record]]]:
+    """The jumps and the solved poses ``(iyaw, y, record)`` of the searched ``cells``
+    (:func:`refine_cell`'s results ``res``, in cell order)."""
+    found = [jp for jps, _ in res for jp in jps]
+    extra = [(c[0], y, r) for c, (_, samples) in zip(cells, res, strict=True) for y, r in samples]
+    return found, extra
+
+
+def refinement_plan(arrays: dict[str, np.ndarray], y_axis: np.ndarray, nyaw: int,
+                    found: Sequence[Jump], extra: Sequence[tuple[int, float, Record]]
+                    ) -> list[Item]:
+    """Every interval to refine (:func:`refinement_items` of each column's knots), in column
+    order: ``(iyaw, (x0, r0), (x1, r1), outer)``."""
+    items: list[Item] = []
+    for j in range(nyaw):
+        knots = column_knots(arrays, y_axis, j, found, [(y, r) for jj, y, r in extra if jj == j])
+        items += [(j, knots[k][:2], knots[k + 1][:2], neighbours(knots, k))
+                  for k in refinement_items(knots)]
+    return items
+
+
+T = TypeVar("T")
+R = TypeVar("R")
+#: :func:`mirror_pairs`' answer: item index -> (index of the item it is the image of, the
+#: reflection that maps that one onto it)
+Pairs = dict[int, tuple[int, "Reflection"]]
+
+
+def mirrored_map(items: Sequence[T], run: Callable[[list[T]], list[R]], pairs: Pairs | None,
+                 flip: Callable[[Reflection, R], R] | None) -> list[R]:
+    """``run`` on the items that are no other's image, the rest by ``flip(reflection,
+    result)`` of their image's result (``pairs``: :meth:`Mirror.cells`, :meth:`Mirror.items`;
+    everything run when None)."""
+    pairs = pairs or {}
+    got = iter(run([it for n, it in enumerate(items) if n not in pairs]))
+    out: list[R] = []
+    for n in range(len(items)):
+        if n in pairs:
+            m, g = pairs[n]
+            out.append(flip(g, out[m]))
+        else:
+            out.append(next(got))
+    return out
+
+
+def mirror_pairs(keys: Sequence[Hashable], images: Sequence[tuple[Reflection, Callable[
+        [Any], Hashable]]]) -> Pairs:
+    """``{n: (m, g)}`` for every ``keys[n]`` that is the image under a reflection ``g`` of
+    ``keys[m]``, ``m < n`` and ``m`` no image itself (solved); ``images``: each reflection
+    with its map of keys (an involution). An item that is only its own image, or whose images
+    are not among ``keys``, is no pair (solved)."""
+    first: dict[Hashable, int] = {}
+    for n, k in enumerate(keys):
+        first.setdefault(k, n)
+    out: Pairs = {}
+    for n, k in enumerate(keys):
+        for g, image in images:
+            m = first.get(image(k))
+            if m is not None and m < n and m not in out:
+                out[n] = (m, g)
+                break
+    return out
+
+
+#: largest asymmetry of a grid axis about zero (m, rad) that :meth:`Mirror.of` accepts:
+#: ``numpy.linspace(-a, a, n)`` is symmetric to a few ulp (4e-15 m on the default grid)
+MIRROR_AXIS_TOL = 1e-12
+
+
+@dataclass(frozen=True)
+class Reflection:
+    """A reflection of the track frame that maps the table's poses onto poses of its grid.
+
+    Attributes
+    ----------
+    sides : bool
+        In the x-z plane: y -> -y, the wheels swapped (a symmetric pair only).
+    longitudinal : bool
+        In the y-z plane: x -> -x (any pair: wheels of revolution, rails extruded along x).
+
+    The pose ``(y, yaw)`` goes to ``(-y, -yaw)`` (sides), ``(y, -yaw)`` (longitudinal) or
+    ``(-y, yaw)`` (both).
+    """
+
+    sides: bool
+    longitudinal: bool
+
+    @property
+    def flips_yaw(self) -> bool:
+        return self.sides != self.longitudinal
+
+    def record(self, rec: Record) -> Record:
+        """A pose record at the reflected pose (:meth:`lutmpi.table.schema.Field.reflected`)."""
+        return {name: FIELDS_BY_NAME[name].reflected(v, self.sides, self.longitudinal)
+                for name, v in rec.items()}
+
+
+def mirror_record(rec: Record) -> Record:
+    """A pose record at the pose ``(-y, -yaw)`` of a symmetric pair (the wheels swapped)."""
+    return Reflection(True, False).record(rec)
+
+
+@dataclass(frozen=True)
+class Mirror:
+    """The reflections that map a table's grid onto itself (:class:`Reflection`): cell
+    ``(j, i)`` goes to ``(nyaw - 1 - j, ...)`` where the yaw changes sign and to
+    ``(..., ny - 2 - i)`` where y does; a grid node to its mirror node, any other position
+    ``y`` to ``-y``.
+
+    Attributes
+    ----------
+    nodes : dict
+        Grid node y -> its mirror node's y (m).
+    ny, nyaw : int
+        Grid size.
+    reflections : tuple of Reflection
+        Those that apply (not the identity): a group with it.
+    """
+
+    nodes: dict[float, float]
+    ny: int
+    nyaw: int
+    reflections: tuple[Reflection, ...]
+
+    @classmethod
+    def of(cls, y_axis: np.ndarray, yaw_axis: np.ndarray, symmetric_pair: bool
+           ) -> Mirror | None:
+        """The reflections a grid allows (an axis symmetric about zero within
+        :data:`MIRROR_AXIS_TOL`; y -> -y only with a ``symmetric_pair``), or None when none
+        does."""
+        y, yaw = np.asarray(y_axis, float), np.asarray(yaw_axis, float)
+        sym_y = bool(np.max(np.abs(y + y[::-1])) <= MIRROR_AXIS_TOL) and symmetric_pair
+        sym_yaw = bool(np.max(np.abs(yaw + yaw[::-1])) <= MIRROR_AXIS_TOL) and yaw.size > 1
+        refl = tuple(g for g, ok in ((Reflection(False, True), sym_yaw),
+                                     (Reflection(True, False), sym_y and sym_yaw),
+                                     (Reflection(True, True), sym_y)) if ok)
+        if not refl:
+            return None
+        return cls({float(a): float(b) for a, b in zip(y, y[::-1], strict=True)}, y.size,
+                   yaw.size, refl)
+
+    def describe(self) -> str:
+        """The reflections in words (the build log)."""
+        names = {(False, True): "(y, yaw) -> (y, -yaw)", (True, False): "(y, yaw) -> (-y, -yaw)",
+                 (True, True): "(y, yaw) -> (-y, yaw)"}
+        return ", ".join(names[(g.sides, g.longitudinal)] for g in self.reflections)
+
+    def y(self, g: Reflection, v: float) -> float:
+        """The image of the position ``v`` (m)."""
+        return self.nodes.get(v, -v) if g.sides else v
+
+    def column(self, g: Reflection, j: int) -> int:
+        return self.nyaw - 1 - j if g.flips_yaw else j
+
+    def jump(self, g: Reflection, jp: Jump) -> Jump:
+        """The image of a jump (a reflection in y swaps its bracket's ends and its sides)."""
+        j = self.column(g, jp.iyaw)
+        if not g.sides:
+            return Jump(j, jp.lo, jp.hi, g.record(jp.rec_lo), g.record(jp.rec_hi), jp.kind,
+                        jp.side)
+        side = ((jp.side & 1) << 1) | ((jp.side & 2) >> 1)
+        return Jump(j, self.y(g, jp.hi), self.y(g, jp.lo), g.record(jp.rec_hi),
+                    g.record(jp.rec_lo), jp.kind, side)
+
+    def samples(self, g: Reflection, samples: list[tuple[float, Record]]
+                ) -> list[tuple[float, Record]]:
+        """Solved poses ``(y, record)`` reflected (reversed where y changes sign: sorted stays
+        sorted)."""
+        out = [(self.y(g, y), g.record(r)) for y, r in samples]
+        return out[::-1] if g.sides else out
+
+    def cell_result(self, g: Reflection, res: tuple[list[Jump], list[tuple[float, Record]]]
+                    ) -> tuple[list[Jump], list[tuple[float, Record]]]:
+        """:func:`refine_cell`'s result for the image of its cell."""
+        jps, samples = res
+        jps = [self.jump(g, jp) for jp in jps]
+        return (jps[::-1] if g.sides else jps), self.samples(g, samples)
+
+    def cells(self, cells: Sequence[tuple[int, int]]) -> Pairs:
+        """:func:`mirror_pairs` of candidate cells ``(iyaw, iy)``."""
+        def image(g: Reflection) -> Callable[[tuple[int, int]], tuple[int, int]]:
+            return lambda c: (self.column(g, c[0]), self.ny - 2 - c[1] if g.sides else c[1])
+
+        return mirror_pairs(cells, [(g, image(g)) for g in self.reflections])
+
+    def items(self, items: Sequence[Item]) -> Pairs:
+        """:func:`mirror_pairs` of refinement intervals (:func:`refinement_plan`): an image
+        has the reflected ends and outer knots (swapped where y changes sign) in the image's
+        column."""
+        def key(it: Item) -> tuple:
+            j, a, b, (o0, o1) = it
+            return (j, a[0], b[0], None if o0 is None else o0[0], None if o1 is None else o1[0])
+
+        def image(g: Reflection) -> Callable[[tuple], tuple]:
+            def f(k: tuple) -> tuple:
+                j, a, b, o0, o1 = k
+                ys = [None if v is None else self.y(g, v) for v in (a, b, o0, o1)]
+                if g.sides:
+                    ys = [ys[1], ys[0], ys[3], ys[2]]
+                return (self.column(g, j), *ys)
+            return f
+
+        return mirror_pairs([key(it) for it in items], [(g, image(g)) for g in self.reflections])
 
 
 def wheel_flange_angle(wheel: Any) -> float:

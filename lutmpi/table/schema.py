@@ -55,6 +55,11 @@ class Field:
         SI units (``"1"`` dimensionless, ``""`` for codes and counts).
     description : str
         One line, stored as the ``description`` attribute.
+    signs : (int, int)
+        How a scalar changes under the two reflections of :meth:`reflected`: in the track's
+        x-z plane (``(y, yaw) -> (-y, -yaw)``, the wheels swapped) and in its y-z plane
+        (``(y, yaw) -> (y, -yaw)``): ``1`` the same, ``-1`` the sign changes (roll in the
+        first; x_g and pitch in the second).
     """
 
     name: str
@@ -62,6 +67,7 @@ class Field:
     suffix: tuple[int, ...]
     units: str
     description: str
+    signs: tuple[int, int] = (1, 1)
 
     @property
     def fill(self) -> float | int:
@@ -74,6 +80,30 @@ class Field:
     def per_contact(self) -> bool:
         return self.suffix[:2] == CONTACT_SUFFIX
 
+    def reflected(self, value: np.ndarray, sides: bool, longitudinal: bool) -> np.ndarray:
+        """This field's value at the reflected pose given its ``value`` at ``(y, yaw)``.
+
+        ``sides``: the track frame reflected in its x-z plane, the pose ``(-y, -yaw)`` of a
+        symmetric pair (both wheels one profile on one rail profile): the wheels swap (a
+        per-wheel axis is reversed) and a vector's y component changes sign. ``longitudinal``:
+        reflected in its y-z plane, the pose ``(y, -yaw)`` of any pair (wheels of revolution,
+        rails extruded along x): a vector's x component changes sign. Scalars change by their
+        :attr:`signs`; profile coordinates, contact angles (> 0 toward each wheel's flange),
+        radii, curvatures, forces are each wheel's own. Both: the pose ``(-y, yaw)``. lutmpi's
+        solver is symmetric under both (``tests/unit/test_table_mirror.py``): to the bit in
+        the first, to rounding (1e-14 relative) in the second."""
+        v = np.array(value, dtype=self.dtype)
+        vector = self.per_contact and self.suffix[2:] == (3,)
+        if sides:
+            if self.suffix[:1] == (len(SIDES),):
+                v = v[::-1].copy()
+            if vector:
+                v[..., 1] = -v[..., 1]
+        if longitudinal and vector:
+            v[..., 0] = -v[..., 0]
+        sign = (self.signs[0] if sides else 1) * (self.signs[1] if longitudinal else 1)
+        return -v if sign < 0 else v
+
     def empty(self, lead: tuple[int, ...]) -> np.ndarray:
         """An array of shape ``lead + suffix`` filled with :attr:`fill`."""
         return np.full(tuple(lead) + self.suffix, self.fill, dtype=self.dtype)
@@ -83,10 +113,11 @@ _C = CONTACT_SUFFIX
 _V = CONTACT_SUFFIX + (3,)
 FIELDS: tuple[Field, ...] = (
     # per point
-    Field("x_g", "f8", (), "m", "longitudinal shift of the wheelset centre of mass"),
+    Field("x_g", "f8", (), "m", "longitudinal shift of the wheelset centre of mass",
+          signs=(1, -1)),
     Field("z_g", "f8", (), "m", "height of the centre of mass above rail-top level"),
-    Field("roll", "f8", (), "rad", "roll angle theta_x"),
-    Field("pitch", "f8", (), "rad", "pitch angle theta_y"),
+    Field("roll", "f8", (), "rad", "roll angle theta_x", signs=(-1, 1)),
+    Field("pitch", "f8", (), "rad", "pitch angle theta_y", signs=(1, -1)),
     Field("status", "i1", (), "", "solve status code (see attribute status_codes)"),
     Field("iterations", "i4", (), "", "equilibrium iterations over all k_c levels"),
     Field("compute_time", "f8", (), "s", "CPU time of the solve of this point"),

@@ -1,0 +1,243 @@
+"""The jump step's mirror (``[output] mirror``): on a symmetric pair and a grid symmetric about
+(0, 0) the pose (-y, -yaw) is the pose (y, yaw) with the wheels swapped, and the jump step
+solves only one of each mirror pair of cells and intervals (``lutmpi/table/jumps.py``,
+:class:`~lutmpi.table.jumps.Mirror`).
+
+What makes that the same table: the production solver is mirror-symmetric to the bit, for every
+method and every stored field under :meth:`~lutmpi.table.schema.Field.mirrored`'s rules (a wrong
+rule, roll kept or the wheels not swapped, fails the first test); a mirrored jump step finds the
+direct one's jumps at half its solves; the mirror is refused where it does not hold.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from lutmpi.config import load_config
+from lutmpi.config.model import ALL_METHODS
+from lutmpi.paths import REPO_ROOT
+from lutmpi.scene import Scene
+from lutmpi.table import jumps as tj
+from lutmpi.table.compute import compute_points, default_solver, pose_to_record
+from lutmpi.table.grid import Grid
+from lutmpi.table.schema import FIELDS, FIELDS_BY_NAME, JUMP_FIELDS, D, J, limit_fields
+
+pytestmark = pytest.mark.timeout(600)
+
+MANCHESTER = REPO_ROOT / "configs" / "manchester_s1002_uic60_1in40.toml"
+LFIELDS = limit_fields(FIELDS)
+
+
+@pytest.fixture(scope="module")
+def manchester():
+    cfg = load_config(MANCHESTER)
+    return cfg, Scene.from_config(cfg), default_solver()
+
+
+def _equal(a, b) -> bool:
+    return np.array_equal(np.asarray(a), np.asarray(b), equal_nan=True)
+
+
+SIDES_ = tj.Reflection(True, False)
+LONG = tj.Reflection(False, True)
+BOTH = tj.Reflection(True, True)
+
+
+def test_field_reflection_rules():
+    """In the x-z plane (y -> -y) roll changes sign, the wheels swap (n_contacts and every
+    per-contact field) and a vector's y component changes sign; in the y-z plane (x -> -x)
+    x_g, pitch and a vector's x component change sign; everything else is each wheel's own."""
+    assert [f.name for f in FIELDS if f.signs[0] < 0] == [D.roll]
+    assert [f.name for f in FIELDS if f.signs[1] < 0] == [D.x_g, D.pitch]
+    roll, pitch = FIELDS_BY_NAME[D.roll], FIELDS_BY_NAME[D.pitch]
+    assert _equal(roll.reflected(np.float64(0.25), True, False), -0.25)
+    assert _equal(roll.reflected(np.float64(0.25), False, True), 0.25)
+    assert _equal(pitch.reflected(np.float64(0.25), False, True), -0.25)
+    assert _equal(pitch.reflected(np.float64(0.25), True, True), -0.25)
+    assert _equal(FIELDS_BY_NAME[D.n_contacts].reflected(np.array([1, 2], "i1"), True, False),
+                  [2, 1])
+    assert _equal(FIELDS_BY_NAME[D.n_contacts].reflected(np.array([1, 2], "i1"), False, True),
+                  [1, 2])
+    v = np.arange(12.0).reshape(2, 2, 3)
+    want = v[::-1].copy()
+    want[..., 1] *= -1
+    assert _equal(FIELDS_BY_NAME[D.wheel_point].reflected(v, True, False), want)
+    want[..., 0] *= -1
+    assert _equal(FIELDS_BY_NAME[D.wheel_point].reflected(v, True, True), want)
+    c = np.array([[1.0, 2.0], [3.0, np.nan]])
+    assert _equal(FIELDS_BY_NAME[D.contact_angle].reflected(c, True, False), c[::-1])
+    assert _equal(FIELDS_BY_NAME[D.contact_angle].reflected(c, False, True), c)
+
+
+POSES = [(0.0, 0.05), (2.5e-3, 0.0), (6.2e-3, -0.03), (7.5e-3, 0.1), (8.9e-3, 0.12),
+         (-4.1e-3, 0.07)]
+DISCRETE = (D.status, D.iterations, D.n_contacts, D.n_roots)
+
+
+@pytest.mark.parametrize("method", ALL_METHODS)
+def test_the_solver_is_symmetric_under_both_reflections(manchester, method):
+    """Every stored field of every method at (-y, -yaw) is the reflection in the x-z plane of
+    the one at (y, yaw), bit for bit, and at (y, -yaw) the reflection in the y-z plane, to
+    rounding (the same status, iterations and contacts; the mesh methods' sums run over the
+    nodes in another order): tread, flange (single and two-point), yawed flange and centred
+    poses of the Manchester pair. What the mirrored jump step relies on."""
+    _, scene, solver = manchester
+    for y, yaw in POSES:
+        a = pose_to_record(solver(scene, y, yaw, method), LFIELDS)
+        b = pose_to_record(solver(scene, -y, -yaw, method), LFIELDS)
+        c = pose_to_record(solver(scene, y, -yaw, method), LFIELDS)
+        assert int(a[D.status]) == 0, (method, y, yaw)
+        for f in LFIELDS:
+            assert _equal(f.reflected(a[f.name], True, False), b[f.name]), (method, y, f.name)
+            assert _equal(SIDES_.record({f.name: b[f.name]})[f.name], a[f.name])
+            got = LONG.record({f.name: a[f.name]})[f.name]
+            if f.name in DISCRETE:
+                assert _equal(got, c[f.name]), (method, y, yaw, f.name)
+            else:
+                np.testing.assert_allclose(got, c[f.name], rtol=1e-10, atol=1e-13,
+                                           err_msg=f"{method} {y} {yaw} {f.name}")
+            d = BOTH.record({f.name: a[f.name]})[f.name]
+            e = pose_to_record(solver(scene, -y, yaw, method), [f])[f.name]
+            if f.name in DISCRETE:
+                assert _equal(d, e), (method, y, yaw, f.name)
+            else:
+                np.testing.assert_allclose(d, e, rtol=1e-10, atol=1e-13)
+
+
+def _table(manchester, ny: int, nyaw: int):
+    cfg, scene, solver = manchester
+    y = np.linspace(-9e-3, 9e-3, ny)
+    yaw = np.linspace(-0.1, 0.1, nyaw) if nyaw > 1 else np.zeros(1)
+    grid = Grid(y, yaw)
+    recs, _ = compute_points(scene, grid, np.arange(grid.n_points), ["load_centre"], solver,
+                             LFIELDS)
+    arrays = {k: v.reshape(grid.shape + v.shape[1:]) for k, v in recs["load_centre"].items()}
+    count = [0]
+    yaws: list[float] = []
+
+    def solve(y, yaw):
+        count[0] += 1
+        yaws.append(yaw)
+        return pose_to_record(solver(scene, y, yaw, "load_centre"), LFIELDS)
+
+    return grid, arrays, solve, count, yaws
+
+
+def _reflected_set(mirror, g, js):
+    """The jump set ``js`` reflected by ``g`` as whole arrays: (jump_y per column, limits of
+    roll per column)."""
+    cols = {}
+    for j in range(js.knot_y.shape[0]):
+        ys = js.arrays[J.jump_y][j]
+        n = int(np.isfinite(ys).sum())
+        jj = mirror.column(g, j)
+        y2 = np.array([mirror.y(g, v) for v in ys[:n]])
+        lims = js.limits[D.z_g][j, :n]
+        if g.sides:
+            y2, lims = y2[::-1], lims[::-1, ::-1]
+        cols[jj] = (y2, lims)
+    return cols
+
+
+@pytest.mark.parametrize("nyaw", [3, 1])
+def test_mirrored_jump_step_is_symmetric_at_a_fraction_of_the_solves(manchester, nyaw):
+    """On a 13 x 3 grid of the Manchester pair (and a 1-D one at yaw 0, the EN 15302 case,
+    whose one column is its own image) the mirrored jump step solves a third (a half) of
+    the direct step's poses, and its jumps, limits and knots are symmetric under every
+    reflection; the limits at a reflected jump's bracket ends are direct solves there (to
+    rounding), so the bracket's ends and records are swapped right."""
+    grid, arrays, solve, count, _ = _table(manchester, 13, nyaw)
+    mirror = tj.Mirror.of(grid.y, grid.yaw, True)
+    assert len(mirror.reflections) == (3 if nyaw == 3 else 1)
+    direct = tj.locate_jumps(arrays, grid.y, grid.yaw, solve, LFIELDS)
+    n_direct, count[0] = count[0], 0
+    js = tj.locate_jumps(arrays, grid.y, grid.yaw, solve, LFIELDS, mirror=mirror)
+    n_mirrored = count[0]
+    print(f"\nsolves: direct {n_direct}, mirrored {n_mirrored}; jumps direct "
+          f"{int(direct.count.sum())}, mirrored {int(js.count.sum())}")
+    assert js.count.sum() >= 2 * nyaw   # the flange's jumps on both sides, at least
+    # 3 columns: the outer two solve a quarter together, the middle one (its own image in yaw)
+    # a half: a third in all
+    assert n_mirrored <= (0.4 if nyaw == 3 else 0.55) * n_direct
+    for g in mirror.reflections:
+        for j, (ys, lims) in _reflected_set(mirror, g, js).items():
+            n = ys.size
+            assert _equal(js.arrays[J.jump_y][j, :n], ys), (g, j)
+            np.testing.assert_allclose(js.limits[D.z_g][j, :n], lims, rtol=1e-12, atol=0)
+        for j in range(js.knot_y.shape[0]):
+            k = js.knot_y[j][np.isfinite(js.knot_y[j])]
+            k2 = js.knot_y[mirror.column(g, j)]
+            k2 = np.sort([mirror.y(g, v) for v in k2[np.isfinite(k2)]])
+            assert _equal(k, k2), (g, j)
+    checked = 0
+    for j in range(js.knot_y.shape[0]):
+        for n in range(int(js.count[j])):
+            for side, key in ((0, J.jump_y_lo), (1, J.jump_y_hi)):
+                want = solve(float(js.arrays[key][j, n]), float(grid.yaw[j]))
+                for name in (D.z_g, D.roll, D.n_contacts, D.wheel_s):
+                    np.testing.assert_allclose(js.limits[name][j, n, side].astype(float),
+                                               want[name].astype(float), rtol=1e-9, atol=1e-12,
+                                               err_msg=f"{j} {n} {key} {name}")
+                checked += 1
+    assert checked == 2 * js.count.sum()
+
+
+def test_reflection_in_yaw_alone_is_the_direct_jump_step(manchester):
+    """Without the reflection in y (a pair whose sides differ), the y-z plane's reflection
+    alone gives the direct step's jumps and knots (the search and the refinement only read
+    what that reflection keeps), solving only the columns of yaw <= 0: every cell and
+    interval of a column of yaw > 0 is found to be an image."""
+    grid, arrays, solve, count, yaws = _table(manchester, 13, 3)
+    mirror = tj.Mirror.of(grid.y, grid.yaw, False)
+    assert mirror.reflections == (LONG,)
+    direct = tj.locate_jumps(arrays, grid.y, grid.yaw, solve, LFIELDS)
+    n_direct, count[0] = count[0], 0
+    half = sum(a <= 0.0 for a in yaws)
+    js = tj.locate_jumps(arrays, grid.y, grid.yaw, solve, LFIELDS, mirror=mirror)
+    print(f"\nsolves: direct {n_direct}, at yaw <= 0 {half}, mirrored {count[0]}")
+    assert count[0] == half < n_direct
+    for f in JUMP_FIELDS:
+        assert _equal(js.arrays[f.name], direct.arrays[f.name]), f.name
+    assert _equal(js.knot_y, direct.knot_y)
+    for f in LFIELDS:
+        # to rounding: a small second contact's force (4 kN) by up to 7e-10 of itself
+        np.testing.assert_allclose(js.limits[f.name].astype(float),
+                                   direct.limits[f.name].astype(float), rtol=1e-8, atol=1e-13,
+                                   err_msg=f.name)
+        np.testing.assert_allclose(js.knots[f.name].astype(float),
+                                   direct.knots[f.name].astype(float), rtol=1e-8, atol=1e-13,
+                                   err_msg=f.name)
+
+
+def test_mirror_needs_a_symmetric_grid_and_the_own_solver(manchester, tmp_path):
+    """Refused, with the reason for the log, on a grid symmetric about neither axis, with
+    ``output.mirror = false`` and with a solver hook; on a pair whose sides differ only the
+    reflection in yaw applies."""
+    from lutmpi.parallel.jumps_step import mirror_of
+
+    cfg, scene, solver = manchester
+    y = np.linspace(-9e-3, 9e-3, 7)
+    yaw = np.linspace(-0.1, 0.1, 5)
+    m, why = mirror_of(cfg, scene, solver, y, yaw)
+    assert m.reflections == (LONG, SIDES_, BOTH) and "(y, yaw) -> (-y, -yaw)" in why
+    assert m.y(SIDES_, float(y[1])) == float(y[-2]) and m.y(LONG, float(y[1])) == float(y[1])
+    assert mirror_of(cfg, scene, solver, y + 1e-4, yaw)[0].reflections == (LONG,)
+    assert mirror_of(cfg, scene, solver, y, yaw[:-1])[0].reflections == (BOTH,)
+    assert mirror_of(cfg, scene, solver, y + 1e-4, yaw[:-1])[0] is None
+    assert "not symmetric" in mirror_of(cfg, scene, solver, y + 1e-4, yaw[:-1])[1]
+    off = dataclasses.replace(cfg, output=dataclasses.replace(cfg.output, mirror=False))
+    assert mirror_of(off, scene, solver, y, yaw) == (None, "output.mirror = false")
+    assert "solver hook" in mirror_of(cfg, scene, lambda *a: None, y, yaw)[1]
+    from tests.support.tables import TWO_MEASURED_WHEELS
+
+    path = tmp_path / "asym.toml"
+    path.write_text(TWO_MEASURED_WHEELS + "\n[mesh]\nwheel_lateral_mm = 1.0\n"
+                    "rail_lateral_mm = 1.0\n")
+    acfg = load_config(path)
+    ascene = Scene.from_config(acfg)
+    assert not ascene.symmetric
+    m, why = mirror_of(acfg, ascene, solver, y, yaw)
+    assert m.reflections == (LONG,) and "profiles (or their placing) differ" in why
