@@ -45,13 +45,20 @@ from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import BuildInterruptedError, ConfigError, LutmpiError
 from lutmpi.parallel import partition
 from lutmpi.parallel.comm import SelfComm, root_decides
-from lutmpi.parallel.jumps_step import add_jumps
+from lutmpi.parallel.jumps_step import add_jumps, mirror_of
 from lutmpi.parallel.workqueue import make_counter
 from lutmpi.parallel.writer import TableWriter
 from lutmpi.table.compute import Solver, compute_points, default_solver
 from lutmpi.table.grid import Grid
+from lutmpi.table.jumps import Reflection
 from lutmpi.table.provenance import input_record
-from lutmpi.table.schema import SCHEMA_VERSION, D, select_fields
+from lutmpi.table.schema import (
+    FIELDS_BY_NAME,
+    SCHEMA_VERSION,
+    TIMING_FIELDS,
+    D,
+    select_fields,
+)
 
 log = logging.getLogger(__name__)
 
@@ -237,19 +244,25 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
         log.info("resuming %s: %d of %d points verified in the journal and reused", writer.out,
                  int(done.sum()), grid.n_points)
     todo = np.flatnonzero(~done)
+    mirror, why = mirror_of(config, prep["scene"], solver, grid.y, grid.yaw)
+    solve, images = mirror.grid_plan(todo) if mirror is not None else (todo, {})
+    if comm.rank == 0 and len(todo):
+        log.info("grid: %d of %d points to do solved, %d filled by reflection (%s)",
+                 len(solve), len(todo), len(todo) - len(solve),
+                 why if mirror is not None else f"none: {why}")
     _compile_once(comm)   # also with nothing left to do: the jump step after the grid solves
     # the counter's window is collective: made before the warm-up, so a rank whose kernels load
     # sooner starts on the points at once instead of waiting for the slowest to load
     counter = make_counter(comm) if split == "dynamic" else None
     warm, warm_s = getattr(solver, "warm", None), 0.0
-    if warm is not None and len(todo):   # kernels loaded before the grid, outside busy time
+    if warm is not None and len(solve):   # kernels loaded before the grid, outside busy time
         t0 = time.perf_counter()
-        y, yaw = grid.pose(int(todo[0]))
+        y, yaw = grid.pose(int(solve[0]))
         for method in methods:
             warm(prep["scene"], method, y, yaw)
         warm_s = time.perf_counter() - t0
     busy, loop = _compute_all(comm, writer, grid, prep["scene"], methods, solver,
-                              _batches(comm, todo, split, counter), len(todo))
+                              _batches(comm, solve, split, counter), len(solve), images)
     if counter is not None:
         counter.free()  # collective: not on an error path (that aborts the job instead)
     wall = comm.bcast(time.perf_counter() - t_start, root=0)
@@ -358,10 +371,13 @@ def _batches(comm: Any, todo: np.ndarray, how: str,
 
 def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
                  methods: tuple[str, ...], solver: Solver,
-                 batches: Iterator[tuple[np.ndarray, int]], n_todo: int) -> tuple[float, float]:
-    """Solve this rank's points without waiting for any other rank; journal each batch at once.
-    Rank 0 logs the estimated global progress. SIGINT/SIGTERM raise
-    :class:`~lutmpi.errors.BuildInterruptedError`.
+                 batches: Iterator[tuple[np.ndarray, int]], n_todo: int,
+                 images: dict[int, list[tuple[int, Reflection]]] | None = None
+                 ) -> tuple[float, float]:
+    """Solve this rank's points without waiting for any other rank; journal each batch at once,
+    with the points that are reflections of its points (``images``:
+    :meth:`lutmpi.table.jumps.Mirror.grid_plan`) filled from them. Rank 0 logs the estimated
+    global progress. SIGINT/SIGTERM raise :class:`~lutmpi.errors.BuildInterruptedError`.
 
     Returns ``(busy, loop)``: the time spent in the solver and the loop's time from its first
     hand-out to its last point journaled (the difference is the per-point overhead; the wait
@@ -371,16 +387,32 @@ def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
     t0 = last_log = end = time.perf_counter()
     with _signals_raise():
         for points, handed_out in batches:
-            rows, first = writer.claim(len(points))
+            extra = [(q, g, n) for n, p in enumerate(points.tolist())
+                     for q, g in (images or {}).get(p, ())]
+            rows, first = writer.claim(len(points) + len(extra))
             _, spent = compute_points(scene, grid, points, methods, solver, writer.fields,
                                       out=rows, first=first)
             busy += spent
-            writer.commit(points)
+            for k, (_, g, n) in enumerate(extra):
+                _reflect_row(rows, first + n, first + len(points) + k, g)
+            writer.commit(np.concatenate([points, np.array([q for q, _, _ in extra],
+                                                           dtype=points.dtype)]))
             end = time.perf_counter()
             if comm.rank == 0 and end - last_log >= PROGRESS_EVERY_S:
                 _log_progress(handed_out, n_todo, end - t0, "~")
                 last_log = end
     return busy, end - t0
+
+
+def _reflect_row(rows: Any, src: int, dst: int, g: Reflection) -> None:
+    """Row ``dst`` of every method's records set to row ``src`` reflected by ``g``
+    (:meth:`lutmpi.table.schema.Field.reflected`); its compute time 0 (not solved)."""
+    for arrays in rows.values():
+        for name, arr in arrays.items():
+            if name in TIMING_FIELDS:
+                arr[dst] = 0.0
+            else:
+                arr[dst] = FIELDS_BY_NAME[name].reflected(arr[src], g.sides, g.longitudinal)
 
 
 @contextlib.contextmanager

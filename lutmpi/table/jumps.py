@@ -845,6 +845,32 @@ class Mirror:
         jps = [self.jump(g, jp) for jp in jps]
         return (jps[::-1] if g.sides else jps), self.samples(g, samples)
 
+    def grid_plan(self, todo: np.ndarray) -> tuple[np.ndarray, dict[int, list[tuple[
+            int, Reflection]]]]:
+        """Which of the grid points ``todo`` (flat indices, row-major ``(iy, iyaw)``) to solve
+        and which to fill by reflection: ``(solve, images)``, ``images[p]`` the points of
+        ``todo`` that are images of the solved point ``p``, each with its reflection. A point
+        is solved when it is the smallest of its orbit, or when that one is not in ``todo``
+        (done before: a resumed build)."""
+        todo = np.asarray(todo, dtype=np.int64)
+        pending = set(todo.tolist())
+        solve: list[int] = []
+        images: dict[int, list[tuple[int, Reflection]]] = {}
+        for p in todo.tolist():
+            i, j = divmod(p, self.nyaw)
+            orbit: dict[int, Reflection] = {}
+            for g in self.reflections:
+                q = ((self.ny - 1 - i) if g.sides else i) * self.nyaw + self.column(g, j)
+                if q != p:
+                    orbit.setdefault(q, g)
+            rep = min(orbit, default=p)
+            if rep < p and rep in pending:
+                continue          # filled from its orbit's smallest point
+            solve.append(p)       # the smallest, or (resumed) the smallest is done: solved
+            images[p] = [(q, g) for q, g in sorted(orbit.items())
+                         if q in pending] if rep >= p else []
+        return np.asarray(solve, dtype=np.int64), images
+
     def cells(self, cells: Sequence[tuple[int, int]]) -> Pairs:
         """:func:`mirror_pairs` of candidate cells ``(iyaw, iy)``."""
         def image(g: Reflection) -> Callable[[tuple[int, int]], tuple[int, int]]:

@@ -241,3 +241,70 @@ def test_mirror_needs_a_symmetric_grid_and_the_own_solver(manchester, tmp_path):
     assert not ascene.symmetric
     m, why = mirror_of(acfg, ascene, solver, y, yaw)
     assert m.reflections == (LONG,) and "profiles (or their placing) differ" in why
+
+
+def test_grid_plan_solves_one_point_per_orbit():
+    """Every point to do is solved or filled from a solved point of its orbit, once; on a
+    resumed build whose orbit's smallest point is done, the rest of the orbit is solved."""
+    ny, nyaw = 5, 3
+    y, yaw = np.linspace(-2e-3, 2e-3, ny), np.linspace(-0.1, 0.1, nyaw)
+    for pair, per in ((True, 4), (False, 2)):
+        mirror = tj.Mirror.of(y, yaw, pair)
+        todo = np.arange(ny * nyaw)
+        solve, images = mirror.grid_plan(todo)
+        filled = [q for p in solve for q, _ in images[int(p)]]
+        assert sorted([*solve.tolist(), *filled]) == todo.tolist()
+        # the corner orbits have 4 (2) points; the middle row and column fewer
+        assert len(solve) == (6 if pair else 10) and max(len(v) for v in images.values()) \
+            == per - 1
+        for p in solve.tolist():
+            i, j = divmod(p, nyaw)
+            for q, g in images[p]:
+                want = (ny - 1 - i if g.sides else i) * nyaw + (nyaw - 1 - j if g.flips_yaw
+                                                                 else j)
+                assert q == want
+    mirror = tj.Mirror.of(y, yaw, True)
+    todo = np.arange(1, ny * nyaw)              # point 0 done before (a resumed build)
+    solve, images = mirror.grid_plan(todo)
+    orbit0 = {2, 12, 14}                        # (0, 2), (4, 2), (4, 0): 0's images
+    assert orbit0 <= set(solve.tolist()) and all(images[p] == [] for p in orbit0)
+
+
+def test_a_mirrored_grid_is_the_direct_grid(tmp_path, monkeypatch):
+    """A build's grid on a symmetric pair solves a quarter of its points (corner orbits of
+    four; the middle row and column pair up) and fills the rest by reflection: every dataset
+    is the direct build's, the discrete ones to the bit, the others to rounding."""
+    from lutmpi.parallel.runner import build_table
+    from lutmpi.table import compute as tc
+    from tests.support.tables import datasets, write_config
+
+    cfg = write_config(tmp_path, ny=7, nyaw=5, methods=("load_centre", "reference"))
+    base = load_config(cfg)
+    off = dataclasses.replace(base, output=dataclasses.replace(base.output, jumps=False,
+                                                               mirror=False))
+    on = dataclasses.replace(off, output=dataclasses.replace(off.output, mirror=True))
+    solves: list[tuple[float, float]] = []
+    real = tc.solve_pose
+
+    def counted(scene, y, yaw, *a, **k):
+        solves.append((y, yaw))
+        return real(scene, y, yaw, *a, **k)
+
+    monkeypatch.setattr(tc, "solve_pose", counted)
+    tables, counts = {}, []
+    for name, c in (("direct", off), ("mirrored", on)):
+        solves.clear()
+        build_table(c, tmp_path / f"{name}.h5", solver=tc.PoseSolver())
+        counts.append(len(solves))
+        tables[name] = datasets(tmp_path / f"{name}.h5")
+    # 35 points x 2 methods (+ one warm-up solve each): 12 of 35 points solved
+    assert counts == [2 * 35 + 2, 2 * 12 + 2], counts
+    a, b = tables["direct"], tables["mirrored"]
+    assert sorted(a) == sorted(b)
+    for name in a:
+        if name.endswith("compute_time"):
+            continue
+        if a[name].dtype.kind != "f":
+            assert _equal(a[name], b[name]), name
+        else:
+            np.testing.assert_allclose(b[name], a[name], rtol=1e-9, atol=1e-12, err_msg=name)
