@@ -57,6 +57,7 @@ T_SCHEMA = "tests/unit/test_table_schema.py"
 T_INTERP = "tests/unit/test_interp_nearest.py"
 T_NEWTON = "tests/unit/test_pose_newton.py"
 T_JUMPS = "tests/unit/test_table_jumps.py"
+T_MIRROR = "tests/unit/test_table_mirror.py"
 T_ROOTS = "tests/unit/test_rigid_roots.py"
 T_CHECK = "tests/unit/test_check.py::test_zones_count_the_minima_the_samples_do_not_resolve"
 T_SUMS = "tests/unit/test_table_checksums.py"
@@ -317,6 +318,17 @@ MUTATIONS: tuple[Mutation, ...] = (
       "        inside = []\n", (T_JUMPS,),
       "each jump of a cluster bisected afresh from its whole sub-interval (the pre-2026-11-27 "
       "search: ~30 % more search solves)"),
+    M("roll_even_in_y", "jump-aware tables", "lutmpi/table/schema.py",
+      '"roll angle theta_x", signs=(-1, 1)),', '"roll angle theta_x", signs=(1, 1)),',
+      (T_MIRROR,), "a symmetric pair's reflection y -> -y keeps the roll's sign (the mirrored "
+      "half of a table with its roll the wrong way round)"),
+    M("image_limits_unswapped", "jump-aware tables", "lutmpi/table/jumps.py",
+      "        return Jump(j, self.y(g, jp.hi), self.y(g, jp.lo), g.record(jp.rec_hi),\n"
+      "                    g.record(jp.rec_lo), jp.kind, side)\n",
+      "        return Jump(j, self.y(g, jp.hi), self.y(g, jp.lo), g.record(jp.rec_lo),\n"
+      "                    g.record(jp.rec_hi), jp.kind, side)\n", (T_MIRROR,),
+      "a jump reflected in y keeps its one-sided limits on their old sides (each limit "
+      "the other side's)"),
     M("pair_by_count", "jump-aware tables", "lutmpi/table/interp.py",
       "    if (na == nb and np.array_equal(sa, sb) and np.array_equal(a_near, np.arange(na))\n"
       "            and np.array_equal(b_near, np.arange(nb))):\n",
