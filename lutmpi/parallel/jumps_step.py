@@ -249,7 +249,8 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
     cells = _jumps.candidate_cells(arrays)
     cell_pairs = mirror.cells(cells) if mirror else {}
     res = _jumps.mirrored_map(cells, lambda todo: _share(comm, todo, lambda c: _jumps.refine_cell(
-        arrays, grid.y, grid.yaw, c, solve), split), cell_pairs, mirror and mirror.cell_result)
+        arrays, grid.y, grid.yaw, c, solve), split), cell_pairs,
+        mirror.cell_result if mirror else None)
     t1 = time.perf_counter()
     found, extra = _jumps.found_and_samples(cells, res)
     items = (_jumps.refinement_plan(arrays, grid.y, grid.yaw.size, found, extra) if refine
@@ -258,7 +259,7 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
     refined = _jumps.mirrored_map(items, lambda todo: _share(comm, todo, lambda it: (
         _jumps.refine_interval(it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]),
                                solve, mesh=mesh, scale=scale, outer=it[3])), split),
-        item_pairs, mirror and mirror.samples)
+        item_pairs, mirror.samples if mirror else None)
     log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),
               t1 - t0, len(items), time.perf_counter() - t1)
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]

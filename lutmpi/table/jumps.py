@@ -643,19 +643,20 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
     """Every jump of one method of a table, and the refinement knots, serially (the steps the
     build runs in parallel: :func:`candidate_cells`, :func:`refine_cell`, :func:`column_knots`,
     :func:`refine_interval` with the factor ``scale`` on its tolerances, :func:`assemble`;
-    ``mirror``: the cells and intervals that are another's mirror image mirrored, not
-    solved)."""
+    ``mirror``: a cell or an interval that is the image of another searched or refined
+    before it takes that one's poses reflected, not solved)."""
     cells = candidate_cells(arrays, kw.get("threshold", CANDIDATE_M))
     res = mirrored_map(cells, lambda todo: [refine_cell(arrays, y_axis, yaw_axis, c, solve, **kw)
-                                            for c in todo], mirror and mirror.cells(cells),
-                       mirror and mirror.cell_result)
+                                            for c in todo],
+                       mirror.cells(cells) if mirror else None,
+                       mirror.cell_result if mirror else None)
     found, extra = found_and_samples(cells, res)
     if refine:
         items = refinement_plan(arrays, y_axis, yaw_axis.size, found, extra)
         refined = mirrored_map(items, lambda todo: [refine_interval(
             x0, r0, x1, r1, float(yaw_axis[j]), solve, mesh=mesh, scale=scale, outer=outer)
-            for j, (x0, r0), (x1, r1), outer in todo], mirror and mirror.items(items),
-            mirror and mirror.samples)
+            for j, (x0, r0), (x1, r1), outer in todo], mirror.items(items) if mirror else None,
+            mirror.samples if mirror else None)
         extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
     return assemble(found, extra, yaw_axis.size, fields)
 
