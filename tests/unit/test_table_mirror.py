@@ -308,3 +308,39 @@ def test_a_mirrored_grid_is_the_direct_grid(tmp_path, monkeypatch):
             assert _equal(a[name], b[name]), name
         else:
             np.testing.assert_allclose(b[name], a[name], rtol=1e-9, atol=1e-12, err_msg=name)
+
+
+def test_a_reflected_build_failed_and_resumed_is_the_uninterrupted_one(tmp_path):
+    """A reflected grid journals each solved point with its images in one batch: a build that
+    fails after five solves and is resumed gives the uninterrupted build's table, bit for
+    bit, reusing those points and their images."""
+    from lutmpi.parallel.runner import build_table
+    from lutmpi.table.compute import PoseSolver
+    from tests.support.tables import differences, write_config
+
+    base = load_config(write_config(tmp_path, ny=7, nyaw=5, methods=("reference",)))
+    cfg = dataclasses.replace(base, output=dataclasses.replace(base.output, jumps=False))
+
+    class FailsAfter(PoseSolver):
+        """lutmpi's own solver (so the build reflects) that raises after ``n`` solves."""
+
+        def __init__(self, n: int) -> None:
+            super().__init__()
+            self.n = n
+
+        def __call__(self, scene, y, yaw, method):
+            self.n -= 1
+            if self.n < 0:
+                raise RuntimeError("injected failure")
+            return super().__call__(scene, y, yaw, method)
+
+    whole = build_table(cfg, tmp_path / "whole.h5", solver=PoseSolver())
+    assert whole.computed == 35
+    out = tmp_path / "t.h5"
+    with pytest.raises(RuntimeError, match="injected failure"):
+        build_table(cfg, out, solver=FailsAfter(5))
+    assert not out.exists()
+    resumed = build_table(cfg, out, solver=PoseSolver(), resume=True)
+    assert resumed.reused >= 5 + 3     # five solved points, and images of the corner ones
+    assert resumed.reused + resumed.computed == 35
+    assert differences(tmp_path / "whole.h5", out) == []
