@@ -138,15 +138,15 @@ def _log_work(comm: Any, wall: float, spent: list) -> None:
 def mirror_of(config: Any, scene: Any, solver: Any, y_axis: np.ndarray, yaw_axis: np.ndarray
               ) -> tuple[_jumps.Mirror | None, str]:
     """The grid's :class:`~lutmpi.table.jumps.Mirror` when the jump step may reflect
-    (``output.mirror``, lutmpi's own solver, a grid symmetric about yaw = 0, or about y = 0 on
+    (``output.mirror``, lutmpi's own solver (``reflection_symmetric``; a sweep's wrapper of it
+    too), a grid symmetric about yaw = 0, or about y = 0 on
     a scene whose two sides are one wheel profile on one rail profile), else None; and the
     reflections or why none, in words for the build log."""
     from lutmpi.scene import Scene
-    from lutmpi.table.compute import PoseSolver
 
     if not config.output.mirror:
         return None, "output.mirror = false"
-    if not isinstance(solver, PoseSolver) or not isinstance(scene, Scene):
+    if not getattr(solver, "reflection_symmetric", False) or not isinstance(scene, Scene):
         return None, "a solver hook solves the poses (its symmetry is unknown)"
     mirror = _jumps.Mirror.of(y_axis, yaw_axis, scene.symmetric)
     pair = ("a symmetric pair" if scene.symmetric else

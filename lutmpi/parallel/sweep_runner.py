@@ -128,6 +128,11 @@ class Tolerant:
         self.solver = solver
         self._warm: set[str] = set()
 
+    @property
+    def reflection_symmetric(self) -> bool:
+        """The wrapped solver's (a pose that raised is an error record at its image too)."""
+        return bool(getattr(self.solver, "reflection_symmetric", False))
+
     def warm(self, scene: Any, method: str, y: float = 0.0, yaw: float = 0.0) -> None:
         """Warm ``method`` once (its first solve at ``(y, yaw)``, m and rad, when ``solver`` has
         no ``warm``); an exception there is left for that pose's own solve to report."""

@@ -49,7 +49,14 @@ class PoseSolver:
     ----------
     warm_s : float
         Time spent warming so far, s.
+    reflection_symmetric : bool
+        Its results at reflected poses are the reflected results (a build may fill a pose
+        from its image: :meth:`lutmpi.table.jumps.Mirror.grid_plan`;
+        ``tests/unit/test_table_mirror.py``). A solver without this attribute true is solved
+        at every pose.
     """
+
+    reflection_symmetric = True
 
     def __init__(self) -> None:
         self._warm: set[str] = set()

@@ -214,8 +214,8 @@ def test_reflection_in_yaw_alone_is_the_direct_jump_step(manchester):
 
 def test_mirror_needs_a_symmetric_grid_and_the_own_solver(manchester, tmp_path):
     """Refused, with the reason for the log, on a grid symmetric about neither axis, with
-    ``output.mirror = false`` and with a solver hook; on a pair whose sides differ only the
-    reflection in yaw applies."""
+    ``output.mirror = false`` and with a solver hook (a sweep's wrapper of lutmpi's own solver
+    reflects); on a pair whose sides differ only the reflection in yaw applies."""
     from lutmpi.parallel.jumps_step import mirror_of
 
     cfg, scene, solver = manchester
@@ -231,6 +231,10 @@ def test_mirror_needs_a_symmetric_grid_and_the_own_solver(manchester, tmp_path):
     off = dataclasses.replace(cfg, output=dataclasses.replace(cfg.output, mirror=False))
     assert mirror_of(off, scene, solver, y, yaw) == (None, "output.mirror = false")
     assert "solver hook" in mirror_of(cfg, scene, lambda *a: None, y, yaw)[1]
+    from lutmpi.parallel.sweep_runner import Tolerant
+
+    assert mirror_of(cfg, scene, Tolerant(solver), y, yaw)[0] is not None   # a sweep's
+    assert mirror_of(cfg, scene, Tolerant(lambda *a: None), y, yaw)[0] is None
     from tests.support.tables import TWO_MEASURED_WHEELS
 
     path = tmp_path / "asym.toml"
