@@ -18,8 +18,9 @@ Printed: the wall time of ``lutmpi build CONFIG`` (whole command: start-up, impo
 kernels loaded, every point, the HDF5 file) on one rank, the numpy solver's time over the same
 grid, their ratio, the same ratio for the build's time up to the end of its grid (the whole
 command less the jump step and final write its log reports: the work the numpy solver does, so
-the like-for-like figure; the jump step solves ~12x the grid's poses to locate and refine the
-contact jumps, which no grid-only solver does), and the numpy solver's deviation from the
+the like-for-like figure; the jump step solves ~7x the grid's solved poses to locate and
+refine the contact jumps, which no grid-only solver does; both solve one pose per orbit of the
+table's reflections, a quarter of a symmetric pair's, docs/TABLES.md), and the numpy solver's deviation from the
 table's z_g and roll (a sanity check that it solves the same problem: a few µm, its angular
 grid).
 
