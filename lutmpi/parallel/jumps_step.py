@@ -137,11 +137,12 @@ def _log_work(comm: Any, wall: float, spent: list) -> None:
 
 def mirror_of(config: Any, scene: Any, solver: Any, y_axis: np.ndarray, yaw_axis: np.ndarray
               ) -> tuple[_jumps.Mirror | None, str]:
-    """The grid's :class:`~lutmpi.table.jumps.Mirror` when the jump step may reflect
-    (``output.mirror``, lutmpi's own solver (``reflection_symmetric``; a sweep's wrapper of it
-    too), a grid symmetric about yaw = 0, or about y = 0 on
-    a scene whose two sides are one wheel profile on one rail profile), else None; and the
-    reflections or why none, in words for the build log."""
+    """The grid's :class:`~lutmpi.table.jumps.Mirror` when a build may fill poses by
+    reflection (its grid and its jump step), else None; and the reflections or why none, in
+    words for the build log. It may with ``output.mirror``, a solver whose results are
+    symmetric (``reflection_symmetric``: lutmpi's own, and a sweep's wrapper of it) and a grid
+    symmetric about yaw = 0, or about y = 0 on a scene whose two sides are one wheel profile
+    on one rail profile."""
     from lutmpi.scene import Scene
 
     if not config.output.mirror:
@@ -242,9 +243,9 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
             ) -> tuple[_jumps.JumpSet, int, dict[str, int]]:
     """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
     interval with the factor ``scale`` on its tolerances, both shared among the ranks;
-    ``mirror``: the cells and intervals that are another's mirror image mirrored, not solved
-    (:func:`lutmpi.table.jumps.mirrored_map`). Returns the jumps, the number of candidate cells
-    and what was solved and mirrored (counts of cells and intervals)."""
+    ``mirror``: a cell or an interval that is the image of another takes its poses reflected,
+    not solved (:func:`lutmpi.table.jumps.mirrored_map`). Returns the jumps, the number of
+    candidate cells and what was solved and mirrored (counts of cells and intervals)."""
     t0 = time.perf_counter()
     cells = _jumps.candidate_cells(arrays)
     cell_pairs = mirror.cells(cells) if mirror else {}

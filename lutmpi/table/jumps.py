@@ -765,11 +765,6 @@ class Reflection:
                 for name, v in rec.items()}
 
 
-def mirror_record(rec: Record) -> Record:
-    """A pose record at the pose ``(-y, -yaw)`` of a symmetric pair (the wheels swapped)."""
-    return Reflection(True, False).record(rec)
-
-
 @dataclass(frozen=True)
 class Mirror:
     """The reflections that map a table's grid onto itself (:class:`Reflection`): cell
