@@ -43,7 +43,8 @@ def _all_rows(comm: Any, row_start: int, blocks: dict[str, dict[str, np.ndarray]
 
 def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
               methods: tuple[str, ...], fields: Any, f: Any, io: Any, row_start: int,
-              blocks: dict[str, dict[str, np.ndarray]], split: str = "dynamic") -> None:
+              blocks: dict[str, dict[str, np.ndarray]], split: str = "dynamic",
+              mirror: tuple[_jumps.Mirror | None, str] | None = None) -> None:
     """Locate, refine and write the jumps of every method (unless ``output.jumps`` is false),
     and the dynamics attributes.
 
@@ -58,6 +59,8 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         The writer's HDF5 strategy.
     row_start, blocks
         This rank's complete row block (method -> name -> array).
+    mirror : (Mirror or None, str), optional
+        :func:`mirror_of` as the build's grid used it (computed here when not given).
     split : str
         How cells and intervals are handed out: ``"dynamic"`` (a shared counter) or a static
         split of :mod:`lutmpi.parallel.partition`; the build's ``--split``.
@@ -72,6 +75,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
     if not config.output.jumps and comm.rank == 0:
         log.info("jump step left out (output.jumps = false): the table holds its grid's points "
                  "only, and lutmpi's lookups on it interpolate across contact jumps")
+    mirror, why = mirror or mirror_of(config, scene, solver, grid.y, grid.yaw)
     for method in methods if config.output.jumps else ():
         t_method = time.perf_counter()
         arrays = full[method]
@@ -86,8 +90,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         mesh = mesh_resolution(scene, method)
         # the grid nodes as the search sees them: the fields a solved record holds (not timing)
         limits = {f.name: arrays[f.name] for f in lfields}
-        mirror, why = mirror_of(config, scene, solver, grid.y, grid.yaw)
-        js, n_cells, counts = _locate(comm, grid, limits, solve, lfields, config.output.refine,
+        js, counts = _locate(comm, grid, limits, solve, lfields, config.output.refine,
                                       mesh, split, config.output.refine_scale, mirror)
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
@@ -105,7 +108,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
             "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
         if comm.rank == 0:
             log.info("%s: %d candidate cells, %d jumps located (per yaw: max %d), %d extra knots; "
-                     "interpolants %s", method, n_cells, int(js.count.sum()),
+                     "interpolants %s", method, counts["cells"], int(js.count.sum()),
                      int(js.count.max(initial=0)), int(np.isfinite(js.knot_y).sum()),
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
             if mirror is not None:
@@ -240,12 +243,12 @@ def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
             refine: bool, mesh: _jumps.MeshResolution | None, split: str = "dynamic",
             scale: float = 1.0, mirror: _jumps.Mirror | None = None
-            ) -> tuple[_jumps.JumpSet, int, dict[str, int]]:
+            ) -> tuple[_jumps.JumpSet, dict[str, int]]:
     """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
     interval with the factor ``scale`` on its tolerances, both shared among the ranks;
     ``mirror``: a cell or an interval that is the image of another takes its poses reflected,
-    not solved (:func:`lutmpi.table.jumps.mirrored_map`). Returns the jumps, the number of
-    candidate cells and what was solved and mirrored (counts of cells and intervals)."""
+    not solved (:func:`lutmpi.table.jumps.mirrored_map`). Returns the jumps and the counts of
+    candidate cells and refined intervals, and of those taken from their images."""
     t0 = time.perf_counter()
     cells = _jumps.candidate_cells(arrays)
     cell_pairs = mirror.cells(cells) if mirror else {}
@@ -266,4 +269,4 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
     counts = {"cells": len(cells), "cells_mirrored": len(cell_pairs), "intervals": len(items),
               "intervals_mirrored": len(item_pairs)}
-    return _jumps.assemble(found, extra, grid.yaw.size, fields), len(cells), counts
+    return _jumps.assemble(found, extra, grid.yaw.size, fields), counts

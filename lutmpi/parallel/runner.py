@@ -272,7 +272,7 @@ def _run(comm: Any, writer: TableWriter, solver: Solver, prep: dict[str, Any], t
     journal_s = float(comm.allreduce(writer.journal_seconds))
     writer.finish({"wall_time_s": wall, "rank_busy_s": busy_all}, after_grid=functools.partial(
         add_jumps, comm, grid, config, prep["scene"], solver, methods, writer.fields,
-        split=split))  # issue 11
+        split=split, mirror=(mirror, why)))  # issue 11
     total = time.perf_counter() - t_start
     if comm.rank == 0:
         # the grid's figures below exclude this: say what the whole build took
