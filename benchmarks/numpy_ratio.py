@@ -20,9 +20,9 @@ grid, their ratio, the same ratio for the build's time up to the end of its grid
 command less the jump step and final write its log reports: the work the numpy solver does, so
 the like-for-like figure; the jump step solves ~7x the grid's solved poses to locate and
 refine the contact jumps, which no grid-only solver does; both solve one pose per orbit of the
-table's reflections, a quarter of a symmetric pair's, docs/TABLES.md), and the numpy solver's deviation from the
-table's z_g and roll (a sanity check that it solves the same problem: a few µm, its angular
-grid).
+table's reflections, a quarter of a symmetric pair's, docs/TABLES.md), and the numpy solver's
+deviation from the table's z_g and roll (a sanity check that it solves the same problem: a few
+µm, its angular grid).
 
 ``--pinned ROUNDS`` measures both at once instead, the build on one core and the numpy solver
 on the other for the whole of the build (cores swapped every round; the numpy solver's time is

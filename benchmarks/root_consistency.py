@@ -10,7 +10,10 @@ angle or 5 or 10 degrees from vertical: ``lutmpi.profiles.wear``); y from -12 to
 0.5 mm, 13 yaws over +-0.12 rad. Printed: poses solved, poses whose two heights differ by more
 than ``--tol``, the largest, and the worst poses.
 
-    .venv/bin/python benchmarks/root_consistency.py --seed 4 --pairs 8 [--worn]
+    .venv/bin/python benchmarks/root_consistency.py --seed 4 --pairs 8 [--worn] [--dump F.npz]
+
+``--dump`` saves every pose's rigid solution (success, root count, roll, z_g, at_end) so that
+two trees' solutions can be compared pose by pose (the same seed draws the same pairs).
 """
 
 from __future__ import annotations
@@ -38,6 +41,7 @@ def main() -> None:
     ap.add_argument("--pairs", type=int, default=8)
     ap.add_argument("--worn", action="store_true", help="wear each profile at random")
     ap.add_argument("--tol", type=float, default=0.1, help="height difference reported, um")
+    ap.add_argument("--dump", type=Path, help="save every pose's rigid solution (.npz)")
     a = ap.parse_args()
     prof = ROOT / "profiles"
     wheels = {f: read_profile(prof / f, kind="wheel") for f in WHEELS}
@@ -63,6 +67,7 @@ def main() -> None:
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} seed {a.seed}, {a.pairs} "
           f"pairs{', worn' if a.worn else ''}")
     total, bad, worst = 0, [], 0.0
+    rows: list[tuple[float, ...]] = []
     t0 = time.perf_counter()
     for _ in range(a.pairs):
         w, r = {"left": wheel(), "right": wheel()}, {"left": rail(), "right": rail()}
@@ -71,6 +76,9 @@ def main() -> None:
         for y in np.arange(-12.0, 12.01, 0.5):
             for yaw in np.linspace(-0.12, 0.12, 13):
                 rig = sc.locus.solve(y * MM, float(yaw))
+                rows.append((y * MM, float(yaw), float(rig.success), float(rig.n_roots),
+                             float(rig.roll) if rig.success else np.nan,
+                             float(rig.z_g) if rig.success else np.nan, float(rig.at_end)))
                 if not rig.success:
                     continue
                 zl, zr = sc.locus.heights(y * MM, float(yaw), rig.roll)
@@ -84,6 +92,9 @@ def main() -> None:
           f"(largest {worst:.3g} um); {time.perf_counter() - t0:.0f} s")
     for _, text in sorted(bad, reverse=True)[:10]:
         print("  " + text)
+    if a.dump:
+        np.savez(a.dump, poses=np.array(rows), columns=np.array(
+            ["y_m", "yaw_rad", "success", "n_roots", "roll_rad", "z_g_m", "at_end"]))
 
 
 if __name__ == "__main__":

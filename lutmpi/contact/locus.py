@@ -261,7 +261,10 @@ class LocusSolver:
         self.max_contacts = max_contacts
         self.lever = 0.5 * (wheels["left"].d + wheels["right"].d)
         self.roll_max = self._roll_bound()
-        self.lipschitz = self._lipschitz()
+        self.side_lipschitz = self._side_lipschitz()
+        self.lipschitz = 0.0
+        for share in self.side_lipschitz:
+            self.lipschitz += share
         n = int(np.ceil(self.roll_max / SCAN_STEP))
         self.scan_rolls = np.linspace(-n * SCAN_STEP, n * SCAN_STEP, 2 * n + 1)
         self._memo: dict[tuple, RigidSolution] = {}
@@ -269,6 +272,12 @@ class LocusSolver:
         self._loci: dict[tuple[float, float, float], tuple] = {}
         self._scan_sides = tuple(self.sides[name].scan_args for name in SIDES)
         self._local_sides = tuple(self.sides[name].local_args for name in SIDES)
+        # the scan's local bound (:func:`~lutmpi.contact.rigid_kernels.scan_adaptive`): each
+        # wheel's share of the bound, the end roll's sine and each rail's slope table
+        self._scan_bound = (*self.side_lipschitz, self.scan_sine,
+                            *(rk.slope_table(self.sides[name].rail.height_table[2],
+                                             float(self.sides[name].rail.height_table[1]))
+                              for name in SIDES))
         self._ends = np.array([[(s, r, self.sides[name].zmax) for s, r in self.sides[name].ends]
                                for name in SIDES])
 
@@ -285,8 +294,9 @@ class LocusSolver:
         return float(min(np.arcsin(min((np.ptp(z) + np.ptp(r)) / lever, 1.0)) + ROLL_MARGIN,
                          0.25))
 
-    def _lipschitz(self) -> float:
-        """A bound of ``|dh/droll|``, 1/rad x m, over the scan's roll range. A touching height is
+    def _side_lipschitz(self) -> tuple[float, float]:
+        """Each wheel's share (left, right) of a bound of ``|dh/droll|``, 1/rad x m, over the
+        scan's roll range (:attr:`lipschitz`, their sum). A touching height is
         an envelope over the wheel points, so its derivative is that of one point's gap ``p_z -
         z_rail(u)`` (the locus point's own motion along its circle adds nothing there: at the
         touching point the wheel's normal is the rail's, and the gap is stationary along the
@@ -303,14 +313,19 @@ class LocusSolver:
         on smooth profiles the rail's slope is the wheel's, so a tangency argument would bound
         it far lower, but not at a corner of the data, where the slope of the rail under the
         wheel can be any it has."""
-        sx = float(np.sin(np.ceil(self.roll_max / SCAN_STEP) * SCAN_STEP))
-        out = 0.0
+        out = []
         for sd in self.sides.values():
             by, r = np.abs(sd.wheel.d + sd.samp.s), sd.samp.r
             _, du, tab = sd.rail.height_table
             slope = float(np.max(np.abs(np.diff(tab)))) / du
-            out += float(np.max(by + sx * r + slope * (r + sx * by)))
-        return out
+            out.append(float(np.max(by + self.scan_sine * r + slope * (r + self.scan_sine * by))))
+        return out[0], out[1]
+
+    @property
+    def scan_sine(self) -> float:
+        """The sine of the scan's end roll (a whole number of :data:`SCAN_STEP` at or beyond
+        ``roll_max``), which the bounds of ``|dh/droll|`` take for ``|sin(roll)|``."""
+        return float(np.sin(np.ceil(self.roll_max / SCAN_STEP) * SCAN_STEP))
 
     # -- heights ---------------------------------------------------------------------------
     def heights(self, y: float, yaw: float, roll: float,
@@ -359,7 +374,7 @@ class LocusSolver:
         The bisections and extremum searches of :func:`find_brackets` run compiled."""
         y, yaw, sides = float(y), float(yaw), self._scan_sides
         x, h = rk.scan_adaptive(float(self.scan_rolls[0]), float(self.scan_rolls[-1]), SCAN_STEP,
-                              self.lipschitz, yaw, y, *sides)
+                                self.lipschitz, yaw, y, *sides, self._scan_bound)
         return find_brackets(
             x, lambda r: self.scan(y, yaw, r), h=h, lip=self.lipschitz,
             edge=lambda a, b, n: rk.edge_bisect(a, b, n, yaw, y, sides),

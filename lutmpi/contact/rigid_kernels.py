@@ -538,18 +538,29 @@ def contact_minima(gap, double_tol, max_contacts):
 
 @njit(cache=True)
 def scan_side(sgn, side, R, y, gap, fine, U, PZ):
+    """Touching height of one wheel from its coarse samples (:func:`scan_side_info`'s first
+    value); -inf when no point is over the rail."""
+    return scan_side_info(sgn, side, R, y, gap, fine, U, PZ)[0]
+
+
+@njit(cache=True)
+def scan_side_info(sgn, side, R, y, gap, fine, U, PZ):
     """Touching height of one wheel from its coarse samples, refined on every sample within one
     coarse step of each coarse local minimum less than :data:`SCAN_BAND` above the smallest and
     of each coarse sample next to the end of the data (a narrow minimum, e.g. a yawed flange
     flank on the last points of a rail, falls between coarse samples: up to 3 mm of gap on the
     measured profiles, and 29 mm on a worn wheel at the end of a measured rail's data, whose
     coarse sample lay 26 mm above the smallest: no band bounds it); -inf when no point is over
-    the rail."""
+    the rail. Returns ``(z, z_c, ib, u)``: the height, minus the smallest coarse sample's own
+    gap (``z >= z_c``: the refinement only raises it), that sample's index among the coarse
+    ones (-1 when none) and its lateral rail coordinate (m), which :func:`local_slope_bound`
+    bounds the scan's steps by."""
     idx, s, r, dr, d, tab, lim, s_c, r_c, dr_c = side
     h, ib = run_gaps(sgn, s_c, r_c, dr_c, d, R, y, lim[0], lim[1], tab, lim[2], lim[3], gap, U,
                      PZ, COARSE)
     if ib < 0:
-        return h
+        return h, h, ib, np.nan
+    u_ib = U[ib]
     # the smallest coarse sample's own gap, not the parabola through it and its neighbours:
     # 1 mm apart on a worn flange's corner the parabola dips 7 mm below every sample, and the
     # refined runs below can only raise the height (a worn flange thinned by 1.5 mm, y = -1 mm,
@@ -571,7 +582,7 @@ def scan_side(sgn, side, R, y, gap, fine, U, PZ):
         h2, _ = run_gaps(sgn, s[lo:hi], r[lo:hi], dr[lo:hi], d, R, y, lim[0], lim[1], tab,
                          lim[2], lim[3], fine, U, PZ, WINDOW)
         h = max(h, h2)
-    return h
+    return h, -gap[ib], ib, u_ib
 
 
 # -- the brackets of the roll scan (:func:`lutmpi.contact.locus.find_brackets`) --------------
@@ -666,57 +677,181 @@ LOOKAHEAD = 0.85
 
 
 @njit(cache=True)
-def _certified(ha, hb, dx, lip):
-    """True when no root of ``h`` lies between two points ``dx`` apart with values ``ha``, ``hb``
-    (both finite, one sign, and ``|ha| + |hb| >= lip dx``: a root between them would need
-    ``|ha| <= lip t`` and ``|hb| <= lip (dx - t)`` for some ``0 <= t <= dx``)."""
-    return (np.isfinite(ha) and np.isfinite(hb) and ha * hb > 0.0
-            and abs(ha) + abs(hb) >= lip * dx)
+def slope_table(tabz, du):
+    """The sparse table of range maxima of a rail height table's slopes ``|tabz[j + 1] -
+    tabz[j]| / du`` (row ``k``: the largest over ``2 ** k`` cells from each cell; padded with
+    zeros), for :func:`range_slope`."""
+    n = max(tabz.size - 1, 1)
+    levels = 1
+    while (1 << levels) <= n:
+        levels += 1
+    st = np.zeros((levels, n))
+    for j in range(tabz.size - 1):
+        st[0, j] = abs(tabz[j + 1] - tabz[j]) / du
+    for k in range(1, levels):
+        w = 1 << (k - 1)
+        for j in range(n - (1 << k) + 1):
+            st[k, j] = max(st[k - 1, j], st[k - 1, j + w])
+    return st
+
+
+@njit(cache=True, inline="always")
+def range_slope(st, j0, j1):
+    """The steepest slope of the cells ``j0 ... j1`` (clipped to the table) from
+    :func:`slope_table`'s ``st``."""
+    n = st.shape[1]
+    j0, j1 = max(j0, 0), min(j1, n - 1)
+    if j1 < j0:
+        return 0.0
+    k = 0
+    while (2 << k) <= j1 - j0 + 1:
+        k += 1
+    return max(st[k, j0], st[k, j1 - (1 << k) + 1])
+
+
+@njit(cache=True, inline="always")
+def local_slope_bound(side, st, turn_yaw, rate_yaw, sx, ib, u, dx):
+    """A bound of ``|d gap / d roll|`` (m/rad) of coarse sample ``ib``'s locus point while the
+    roll moves by at most ``dx`` (rad) from a scan point where its lateral rail coordinate is
+    ``u`` (m); +inf where it does not apply (the point could leave the rail's data, or its
+    locus angle could turn too fast to bound). ``sx``: the sine of the scan's end roll;
+    ``turn_yaw = |tan(yaw)|``, ``rate_yaw = |sin(yaw)| sx / cos(yaw)^3`` (:func:`_yaw_terms`).
+
+    The point ``b = (r sin(phi), sgn (d + s), -r cos(phi))`` of the wheelset frame moves with
+    the roll by ``dp_z <= |d + s| + r sx`` and ``|dp_y| <= r + |d + s| sx`` per radian
+    (:meth:`lutmpi.contact.locus.LocusSolver._lipschitz`), and along its circle by ``r`` per
+    radian of its locus angle ``phi = beta + arcsin(X)``, which turns with the roll by at most
+    ``|beta'| + |X'| / sqrt(1 - X^2)``: ``beta = atan2(sin(yaw) sin(x), cos(yaw))`` gives
+    ``|beta'| <= |tan(yaw)|`` and ``X = -sgn sin(yaw) cos(x) dr / amp`` (``amp >= cos(yaw)``)
+    gives ``|X| <= |dr tan(yaw)|`` and ``|X'| <= |dr sin(yaw)| sx / cos(yaw)^3``. So its gap
+    ``p_z - z_rail(u)`` changes by at most ``A + M S`` per radian, ``M`` the rate of ``u``
+    and ``S`` the steepest slope of the rail's height table within ``M dx`` of ``u``: the
+    rail's slopes where this point can be, not the steepest anywhere."""
+    s_c, r_c, dr_c, d, lim = side[7], side[8], side[9], side[4], side[6]
+    by, r, g = abs(d + s_c[ib]), r_c[ib], abs(dr_c[ib])
+    dxr = g * rate_yaw
+    xm = g * turn_yaw + dxr * dx
+    if not xm < 0.9:
+        return np.inf
+    turn = turn_yaw + dxr / np.sqrt(1.0 - xm * xm)
+    rate = r + by * sx + r * turn
+    half = rate * dx
+    u0, du, u_min, u_max = lim[0], lim[1], lim[2], lim[3]
+    if not (u - half >= u_min and u + half <= u_max):
+        return np.inf
+    slope = range_slope(st, int((u - half - u0) / du) - 1, int((u + half - u0) / du) + 1)
+    return by + r * sx + r * turn + rate * slope
+
+
+@njit(cache=True, inline="always")
+def _yaw_terms(yaw, sx):
+    """``(|tan(yaw)|, |sin(yaw)| sx / cos(yaw)^3)`` of :func:`local_slope_bound`."""
+    sy, cy = abs(np.sin(yaw)), abs(np.cos(yaw))
+    return sy / cy, sy * sx / (cy * cy * cy)
+
+
+@njit(cache=True, inline="always")
+def _reach(pt, dx, lip, yaw, left, right, bound):
+    """How far (rad, at most ``dx`` beyond ``|h| / lip``; ``yaw``: :func:`_yaw_terms`) from
+    the scan point ``pt``
+    (:func:`_scan_info`) ``h`` keeps its sign, on an interval of at most ``dx``. Where ``h >
+    0`` the left wheel's height can only fall as fast as its smallest coarse sample's gap
+    rises (:func:`local_slope_bound`, from the refined height less the refinement's gain over
+    that sample), and the right's rise at most by its whole bound ``lip_r``; ``h < 0`` the
+    other way round. 0 at a NaN point."""
+    h = pt[0]
+    if not np.isfinite(h):
+        return 0.0
+    out = abs(h) / lip
+    lip_l, lip_r, sx, st_l, st_r = bound
+    ty, ry = yaw
+    if h > 0.0:
+        gain, hard = pt[1], lip_r
+        easy = local_slope_bound(left, st_l, ty, ry, sx, pt[2], pt[3], dx)
+    else:
+        gain, hard = pt[4], lip_l
+        easy = local_slope_bound(right, st_r, ty, ry, sx, pt[5], pt[6], dx)
+    if np.isfinite(easy):
+        out = max(out, min(dx, (abs(h) - gain) / (easy + hard)))
+    return out
+
+
+@njit(cache=True, inline="always")
+def _one_step(pt, lip, yaw, left, right, bound):
+    """The root-free reach of the scan point ``pt`` on its own (:func:`_reach` over the
+    largest interval it could certify, and half and a quarter of it: a shorter interval meets
+    fewer steep rail cells)."""
+    h = pt[0]
+    if not np.isfinite(h):
+        return 0.0
+    hard = bound[1] if h > 0.0 else bound[0]
+    cap = max(abs(h) - (pt[1] if h > 0.0 else pt[4]), 0.0) / hard
+    out = abs(h) / lip
+    for f in (1.0, 0.5, 0.25):
+        out = max(out, _reach(pt, f * cap, lip, yaw, left, right, bound))
+    return out
+
+
+@njit(cache=True, inline="always")
+def _certified(pa, pb, dx, lip, yaw, left, right, bound):
+    """True when no root of ``h`` lies between two scan points ``dx`` apart (:func:`_scan_info`
+    each: ``h`` finite, one sign, and their reaches over the interval, :func:`_reach`, cover
+    it)."""
+    ha, hb = pa[0], pb[0]
+    if not (np.isfinite(ha) and np.isfinite(hb) and ha * hb > 0.0):
+        return False
+    return (_reach(pa, dx, lip, yaw, left, right, bound)
+            + _reach(pb, dx, lip, yaw, left, right, bound) >= dx)
 
 
 @njit(cache=True)
-def scan_adaptive(lo, hi, step, lip, yaw, y, left, right):
+def scan_adaptive(lo, hi, step, lip, yaw, y, left, right, bound):
     """``h`` from ``lo`` to ``hi`` (rad), no root skipped: ``lip`` bounds ``|dh/droll|``, so no
-    root lies within ``|h| / lip`` of a point (the one-point step, at least ``step``; a NaN point
-    takes ``step``). Where the two-point step ``2 |h| / lip`` exceeds ``step``, the point
-    :data:`LOOKAHEAD` times that far is tried first: it is kept when the interval up to it is
-    root-free by both ends (:func:`_certified`), which with ``|dh/droll|`` well under ``lip``
-    nearly doubles the step far from the roots; otherwise the one-point step is taken, and the
-    tried point kept after it when the interval between them is root-free. Returns the rolls and
-    ``h`` there (``hi`` always included)."""
+    root lies within ``|h| / lip`` of a point, and the local bound of :func:`_reach` (``bound
+    = (lip_l, lip_r, sx, st_l, st_r)``: each wheel's share of ``lip``, the sine of the scan's
+    end roll and each rail's :func:`slope_table`) often certifies further (the one-point step,
+    at least ``step``; a NaN point takes ``step``). Where the two-point step (twice the
+    one-point reach) exceeds ``step``, the point :data:`LOOKAHEAD` times that far is tried
+    first: it is kept when the interval up to it is root-free by both ends
+    (:func:`_certified`), which far from the roots nearly doubles the step; otherwise the
+    one-point step is taken, and the tried point kept after it when the interval between them
+    is root-free. Returns the rolls and ``h`` there (``hi`` always included)."""
     n_max = int((hi - lo) / step) + 3
     xs = np.empty(n_max)
     hs = np.empty(n_max)
     gl, gr, fine, U, PZ = _scratch(left, right)
+    yt = _yaw_terms(yaw, bound[2])
     x = lo
-    h = _scan_one(x, yaw, y, left, right, gl, gr, fine, U, PZ)
-    xs[0], hs[0] = x, h
+    pt = _scan_info(x, yaw, y, left, right, gl, gr, fine, U, PZ)
+    xs[0], hs[0] = x, pt[0]
     k = 1
     while x < hi and k < n_max:
+        h = pt[0]
         one = step
+        reach = _one_step(pt, lip, yt, left, right, bound)
         if np.isfinite(h):
-            one = max(step, abs(h) / lip)
-        two = LOOKAHEAD * 2.0 * abs(h) / lip if np.isfinite(h) else 0.0
+            one = max(step, reach)
+        two = LOOKAHEAD * 2.0 * reach if np.isfinite(h) else 0.0
         if two > one and x + one < hi:
             xt = min(x + two, hi)
-            ht = _scan_one(xt, yaw, y, left, right, gl, gr, fine, U, PZ)
-            if _certified(h, ht, xt - x, lip):
-                x, h = xt, ht
-                xs[k], hs[k] = x, h
+            pt_t = _scan_info(xt, yaw, y, left, right, gl, gr, fine, U, PZ)
+            if _certified(pt, pt_t, xt - x, lip, yt, left, right, bound):
+                x, pt = xt, pt_t
+                xs[k], hs[k] = x, pt[0]
                 k += 1
                 continue
             x = x + one
-            h = _scan_one(x, yaw, y, left, right, gl, gr, fine, U, PZ)
-            xs[k], hs[k] = x, h
+            pt = _scan_info(x, yaw, y, left, right, gl, gr, fine, U, PZ)
+            xs[k], hs[k] = x, pt[0]
             k += 1
-            if k < n_max and _certified(h, ht, xt - x, lip):
-                x, h = xt, ht
-                xs[k], hs[k] = x, h
+            if k < n_max and _certified(pt, pt_t, xt - x, lip, yt, left, right, bound):
+                x, pt = xt, pt_t
+                xs[k], hs[k] = x, pt[0]
                 k += 1
             continue
         x = min(x + one, hi)
-        h = _scan_one(x, yaw, y, left, right, gl, gr, fine, U, PZ)
-        xs[k], hs[k] = x, h
+        pt = _scan_info(x, yaw, y, left, right, gl, gr, fine, U, PZ)
+        xs[k], hs[k] = x, pt[0]
         k += 1
     return xs[:k], hs[:k]
 
@@ -733,10 +868,19 @@ def _scratch(left, right):
 def _scan_one(x, yaw, y, left, right, gl, gr, fine, U, PZ):
     """``h`` at roll ``x`` with the work arrays of :func:`_scratch` (allocated once per scan,
     not once per roll)."""
+    return _scan_info(x, yaw, y, left, right, gl, gr, fine, U, PZ)[0]
+
+
+@njit(cache=True)
+def _scan_info(x, yaw, y, left, right, gl, gr, fine, U, PZ):
+    """``h`` at roll ``x`` and what :func:`_reach` bounds its change by: ``(h, gain_l, ib_l,
+    u_l, gain_r, ib_r, u_r)``, per wheel the refinement's gain over its smallest coarse
+    sample's height, that sample and its lateral rail coordinate (:func:`scan_side_info`)."""
     R = rotation(yaw, x)
-    hl = scan_side(1.0, left, R, y, gl, fine, U, PZ)
-    hr = scan_side(-1.0, right, R, y, gr, fine, U, PZ)
-    return hl - hr if (np.isfinite(hl) and np.isfinite(hr)) else np.nan
+    hl, cl, il, ul = scan_side_info(1.0, left, R, y, gl, fine, U, PZ)
+    hr, cr, ir, ur = scan_side_info(-1.0, right, R, y, gr, fine, U, PZ)
+    h = hl - hr if (np.isfinite(hl) and np.isfinite(hr)) else np.nan
+    return h, hl - cl, il, ul, hr - cr, ir, ur
 
 
 @njit(cache=True)
