@@ -128,7 +128,9 @@ def run(args: argparse.Namespace) -> int:
 def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, np.ndarray,
                                                                         float]:
     """``(y, Δr with NaN holes, r0 in mm)`` of a run config: its y grid solved at yaw 0 (the
-    config's yaw axis is ignored) with ``method`` (default ``contact.method``), serially, and
+    config's yaw axis is ignored) with ``method`` (default ``contact.method``), serially (one
+    pose per orbit of the reflections with ``output.mirror``, as a build: on a symmetric pair
+    and grid the poses y > 0 are the poses -y reflected), and
     its contact jumps located and the pieces between them refined as a build does (with
     ``output.jumps`` and ``output.refine``): Δr then steps at its jumps instead of running
     across a grid cell."""
@@ -139,7 +141,12 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     from lutmpi.reports.conicity import dr_from_table
     from lutmpi.scene import Scene
     from lutmpi.table import jumps as tj
-    from lutmpi.table.compute import compute_points, default_solver, pose_to_record
+    from lutmpi.table.compute import (
+        compute_points,
+        default_solver,
+        empty_records,
+        pose_to_record,
+    )
     from lutmpi.table.grid import Grid
     from lutmpi.table.schema import (
         FIELDS,
@@ -156,7 +163,18 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     grid = Grid.from_config(cfg.grid)
     scene, solver = Scene.from_config(cfg), default_solver()
     fields = limit_fields(FIELDS)
-    recs, _ = compute_points(scene, grid, np.arange(grid.n_points), [name], solver, fields)
+    # one point per orbit of the reflections (a symmetric pair: y -> -y), the others filled
+    # from it, as a build's grid (Mirror.grid_plan)
+    mirror = mirror_of(cfg, scene, solver, grid.y, grid.yaw)[0]
+    todo = np.arange(grid.n_points)
+    solved, images = mirror.grid_plan(todo) if mirror is not None else (todo, {})
+    part, _ = compute_points(scene, grid, solved, [name], solver, fields)
+    recs = empty_records(fields, [name], grid.n_points)
+    for row, p in enumerate(solved.tolist()):
+        for k, arr in recs[name].items():
+            arr[p] = part[name][k][row]
+        for q, g in images.get(p, []):
+            g.fill_row(recs, p, q)
     group = {k: v[:, None] for k, v in recs[name].items()}   # (ny, nyaw = 1, ...)
 
     def solve(y: float, yaw: float) -> dict[str, np.ndarray]:
@@ -166,7 +184,7 @@ def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, 
     if cfg.output.jumps:
         js = tj.locate_jumps(group, grid.y, grid.yaw, solve, fields, refine=cfg.output.refine,
                              mesh=mesh_resolution(scene, name), scale=cfg.output.refine_scale,
-                             mirror=mirror_of(cfg, scene, solver, grid.y, grid.yaw)[0])
+                             mirror=mirror)
         stored = {name: {"arrays": {**js.arrays, J.knot_y: js.knot_y}, KNOTS_GROUP: js.knots,
                          LIMITS_GROUP: js.limits}}
     y, dr = dr_from_table({"y": grid.y, "yaw": grid.yaw, "methods": {name: group},

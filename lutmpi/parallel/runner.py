@@ -53,9 +53,7 @@ from lutmpi.table.grid import Grid
 from lutmpi.table.jumps import Reflection
 from lutmpi.table.provenance import input_record
 from lutmpi.table.schema import (
-    FIELDS_BY_NAME,
     SCHEMA_VERSION,
-    TIMING_FIELDS,
     D,
     select_fields,
 )
@@ -394,7 +392,7 @@ def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
                                       out=rows, first=first)
             busy += spent
             for k, (_, g, n) in enumerate(extra):
-                _reflect_row(rows, first + n, first + len(points) + k, g)
+                g.fill_row(rows, first + n, first + len(points) + k)
             writer.commit(np.concatenate([points, np.array([q for q, _, _ in extra],
                                                            dtype=points.dtype)]))
             end = time.perf_counter()
@@ -402,17 +400,6 @@ def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
                 _log_progress(handed_out, n_todo, end - t0, "~")
                 last_log = end
     return busy, end - t0
-
-
-def _reflect_row(rows: Any, src: int, dst: int, g: Reflection) -> None:
-    """Row ``dst`` of every method's records set to row ``src`` reflected by ``g``
-    (:meth:`lutmpi.table.schema.Field.reflected`); its compute time 0 (not solved)."""
-    for arrays in rows.values():
-        for name, arr in arrays.items():
-            if name in TIMING_FIELDS:
-                arr[dst] = 0.0
-            else:
-                arr[dst] = FIELDS_BY_NAME[name].reflected(arr[src], g.sides, g.longitudinal)
 
 
 @contextlib.contextmanager

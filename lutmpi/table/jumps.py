@@ -61,7 +61,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from lutmpi.table.interp import KINKING
-from lutmpi.table.schema import FIELDS_BY_NAME, JUMP_FIELDS, D, Field, J
+from lutmpi.table.schema import FIELDS_BY_NAME, JUMP_FIELDS, TIMING_FIELDS, D, Field, J
 
 #: primary contact point movement (m) between neighbours that makes a cell a candidate
 CANDIDATE_M = 2e-3
@@ -763,6 +763,17 @@ class Reflection:
         """A pose record at the reflected pose (:meth:`lutmpi.table.schema.Field.reflected`)."""
         return {name: FIELDS_BY_NAME[name].reflected(v, self.sides, self.longitudinal)
                 for name, v in rec.items()}
+
+    def fill_row(self, rows: dict[str, dict[str, np.ndarray]], src: int, dst: int) -> None:
+        """Row ``dst`` of every method's records (``method -> name -> array``) set to row
+        ``src`` reflected; its compute time 0 (not solved)."""
+        for arrays in rows.values():
+            for name, arr in arrays.items():
+                if name in TIMING_FIELDS:
+                    arr[dst] = 0.0
+                else:
+                    arr[dst] = FIELDS_BY_NAME[name].reflected(arr[src], self.sides,
+                                                              self.longitudinal)
 
 
 @dataclass(frozen=True)

@@ -159,3 +159,39 @@ def test_dr_from_a_table_steps_at_its_jumps_and_converges(tmp_path):
     assert abs(coarse[1] / want[1] - 1.0) > 0.05
     yc, drc, _ = config_dr(cfg)
     np.testing.assert_allclose(conicity_curve(yc, drc, amps).tan_gamma_e, got, rtol=1e-9)
+
+
+def test_config_dr_solves_half_a_symmetric_grid_and_gives_the_same_dr(tmp_path, monkeypatch):
+    """``lutmpi conicity CONFIG`` on a symmetric pair solves one pose per orbit of the y -> -y
+    reflection (``output.mirror``, as a build's grid), the poses y > 0 filled from -y: Δr is
+    the same to the bit as with every pose solved, and the grid's solves are halved."""
+    import lutmpi.table.compute as compute
+    from lutmpi.commands.conicity import config_dr
+    from lutmpi.paths import REPO_ROOT
+
+    prof = REPO_ROOT / "profiles"
+    body = (f'[wheel]\nprofile = "{prof / "MBench_S1002_v3.prw"}"\n'
+            f'[rail]\nprofile = "{prof / "MBench_UIC60_v3.prr"}"\ninclination = "none"\n'
+            '[grid]\ny_mm = [-8.0, 8.0, 33]\nyaw_rad = [0.0, 0.0, 1]\n'
+            '[contact]\nmethod = "reference"\n[output]\nmethods = ["reference"]\n'
+            'jumps = false\n')
+    solved = []
+    real = compute.solve_pose
+
+    def counted(scene, y, yaw, method=None, **kw):
+        solved.append(y)
+        return real(scene, y, yaw, method, **kw)
+
+    monkeypatch.setattr(compute, "solve_pose", counted)
+    out = {}
+    for mirror in ("true", "false"):
+        cfg = tmp_path / f"m_{mirror}.toml"
+        cfg.write_text(body + f"mirror = {mirror}\n")
+        solved.clear()
+        out[mirror] = config_dr(cfg)
+        out[mirror + "_n"] = len(solved)
+    assert np.array_equal(out["true"][0], out["false"][0])
+    assert np.array_equal(out["true"][1], out["false"][1], equal_nan=True)
+    assert np.isfinite(out["true"][1]).sum() >= 31
+    # 33 poses: 17 orbits (y = 0 alone); one warm-up solve each
+    assert out["false_n"] == 33 + 1 and out["true_n"] == 17 + 1
