@@ -158,7 +158,7 @@ def _disc(rec: Record) -> tuple[int, ...]:
     """Discrete key of a record: status, contacts per wheel."""
     disc = (int(rec[D.status]),)
     if D.n_contacts in rec:
-        disc += tuple(int(v) for v in np.asarray(rec[D.n_contacts]).ravel())
+        disc += tuple(np.asarray(rec[D.n_contacts], dtype=np.int64).ravel().tolist())
     return disc
 
 
