@@ -104,6 +104,8 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
             "refine_mesh_step_fraction": _jumps.MESH_STEP_FRACTION,
             "refine_scale": float(config.output.refine_scale),
             "mirrored": mirror is not None,
+            "max_per_cell": _jumps.MAX_PER_CELL,
+            "cells_searched_in_part": len(counts["in_part"]),
             # the same value on every rank (collective metadata): rank 0's
             "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
         if comm.rank == 0:
@@ -111,6 +113,10 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
                      "interpolants %s", method, counts["cells"], int(js.count.sum()),
                      int(js.count.max(initial=0)), int(np.isfinite(js.knot_y).sum()),
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
+            for j, lo, hi in counts["in_part"]:
+                log.warning("%s: more than %d jumps between y = %.4f and %.4f mm at yaw %.4g "
+                            "rad: located in part (the table interpolates across the others)",
+                            method, _jumps.MAX_PER_CELL, lo * 1e3, hi * 1e3, grid.yaw[j])
             if mirror is not None:
                 log.info("%s: mirrored (%s): %d of %d candidate cells and %d of %d refined "
                          "intervals taken from their images, not solved", method, why,
@@ -248,7 +254,8 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
     interval with the factor ``scale`` on its tolerances, both shared among the ranks;
     ``mirror``: a cell or an interval that is the image of another takes its poses reflected,
     not solved (:func:`lutmpi.table.jumps.mirrored_map`). Returns the jumps and the counts of
-    candidate cells and refined intervals, and of those taken from their images."""
+    candidate cells and refined intervals, and of those taken from their images, and the cells
+    searched in part (:func:`lutmpi.table.jumps.searched_in_part`)."""
     t0 = time.perf_counter()
     cells = _jumps.candidate_cells(arrays)
     cell_pairs = mirror.cells(cells) if mirror else {}
@@ -257,6 +264,7 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
         mirror.cell_result if mirror else None)
     t1 = time.perf_counter()
     found, extra = _jumps.found_and_samples(cells, res)
+    in_part = _jumps.searched_in_part(arrays, grid.y, cells, res)
     items = (_jumps.refinement_plan(arrays, grid.y, grid.yaw.size, found, extra) if refine
              else [])
     item_pairs = mirror.items(items) if mirror else {}
@@ -268,5 +276,5 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
               t1 - t0, len(items), time.perf_counter() - t1)
     extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
     counts = {"cells": len(cells), "cells_mirrored": len(cell_pairs), "intervals": len(items),
-              "intervals_mirrored": len(item_pairs)}
+              "intervals_mirrored": len(item_pairs), "in_part": in_part}
     return _jumps.assemble(found, extra, grid.yaw.size, fields), counts

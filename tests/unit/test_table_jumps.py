@@ -862,3 +862,38 @@ def test_records_of_grid_nodes_and_solves_cross_ranks_together():
         assert set(jp.rec_lo) == set(solved[0])
         assert jp.rec_lo["z_g"].tobytes() == node["z_g"].tobytes()
         assert jp.rec_hi["rolling_radius"].tobytes() == solved[1]["rolling_radius"].tobytes()
+
+
+@pytest.mark.parametrize("steps, in_part", [(5, False), (11, True)])
+def test_a_cell_with_more_jumps_than_the_search_takes_is_reported(steps, in_part, caplog):
+    """A left contact point that jumps by 2.5 mm ``steps`` times inside one 0.5 mm cell (every
+    30 um from y = 0.1 mm): 5 jumps are all located; 11 exceed MAX_PER_CELL (8), the cell is
+    searched in part, and that is reported (a warning naming the cell, and
+    :func:`searched_in_part`), not left silent."""
+    assert tj.MAX_PER_CELL == 8
+    at = 0.1e-3 + 30e-6 * np.arange(steps)
+
+    def staircase(y: float, yaw: float) -> dict[str, np.ndarray]:
+        rec = synthetic(-1e-3, yaw)                     # below the synthetic jump: smooth
+        k = int(np.sum(y >= at))
+        rec["wheel_s"][0, 0] += 2.5e-3 * k
+        rec["rail_v"][0, 0] += 2.5e-3 * k
+        return rec
+
+    y_axis = np.array([-0.5e-3, 0.0, 0.5e-3, 1.0e-3])
+    yaw_axis = np.array([0.0])
+    arrays = {f.name: f.empty((y_axis.size, 1)) for f in FLDS}
+    for i, y in enumerate(y_axis):
+        for name, v in staircase(float(y), 0.0).items():
+            arrays[name][i, 0] = v
+    cells = tj.candidate_cells(arrays)
+    assert cells == [(0, 1)]
+    res = [tj.refine_cell(arrays, y_axis, yaw_axis, c, staircase) for c in cells]
+    jumps = res[0][0]
+    assert len(jumps) == min(steps, tj.MAX_PER_CELL)
+    assert all(any(jp.lo < t <= jp.hi for t in at) for jp in jumps)
+    got = tj.searched_in_part(arrays, y_axis, cells, res)
+    assert got == ([(0, 0.0, 0.5e-3)] if in_part else [])
+    with caplog.at_level("WARNING", logger="lutmpi.table.jumps"):
+        tj.locate_jumps(arrays, y_axis, yaw_axis, staircase, FLDS, refine=False)
+    assert ("located in part" in caplog.text) == in_part
