@@ -751,10 +751,10 @@ def _yaw_terms(yaw, sx):
 
 
 @njit(cache=True, inline="always")
-def _reach(pt, dx, lip, yaw, left, right, bound):
-    """How far (rad, at most ``dx`` beyond ``|h| / lip``; ``yaw``: :func:`_yaw_terms`) from
-    the scan point ``pt``
-    (:func:`_scan_info`) ``h`` keeps its sign, on an interval of at most ``dx``. Where ``h >
+def _reach(pt, dx, lip, yt, left, right, bound):
+    """How far (rad, at most ``dx`` beyond ``|h| / lip``) from the scan point ``pt``
+    (:func:`_scan_info`) ``h`` keeps its sign, on an interval of at most ``dx`` (``yt``: the
+    pose's :func:`_yaw_terms`). Where ``h >
     0`` the left wheel's height can only fall as fast as its smallest coarse sample's gap
     rises (:func:`local_slope_bound`, from the refined height less the refinement's gain over
     that sample), and the right's rise at most by its whole bound ``lip_r``; ``h < 0`` the
@@ -764,7 +764,7 @@ def _reach(pt, dx, lip, yaw, left, right, bound):
         return 0.0
     out = abs(h) / lip
     lip_l, lip_r, sx, st_l, st_r = bound
-    ty, ry = yaw
+    ty, ry = yt
     if h > 0.0:
         gain, hard = pt[1], lip_r
         easy = local_slope_bound(left, st_l, ty, ry, sx, pt[2], pt[3], dx)
@@ -777,7 +777,7 @@ def _reach(pt, dx, lip, yaw, left, right, bound):
 
 
 @njit(cache=True, inline="always")
-def _one_step(pt, lip, yaw, left, right, bound):
+def _one_step(pt, lip, yt, left, right, bound):
     """The root-free reach of the scan point ``pt`` on its own (:func:`_reach` over the
     largest interval it could certify, and half and a quarter of it: a shorter interval meets
     fewer steep rail cells)."""
@@ -788,20 +788,20 @@ def _one_step(pt, lip, yaw, left, right, bound):
     cap = max(abs(h) - (pt[1] if h > 0.0 else pt[4]), 0.0) / hard
     out = abs(h) / lip
     for f in (1.0, 0.5, 0.25):
-        out = max(out, _reach(pt, f * cap, lip, yaw, left, right, bound))
+        out = max(out, _reach(pt, f * cap, lip, yt, left, right, bound))
     return out
 
 
 @njit(cache=True, inline="always")
-def _certified(pa, pb, dx, lip, yaw, left, right, bound):
+def _certified(pa, pb, dx, lip, yt, left, right, bound):
     """True when no root of ``h`` lies between two scan points ``dx`` apart (:func:`_scan_info`
     each: ``h`` finite, one sign, and their reaches over the interval, :func:`_reach`, cover
     it)."""
     ha, hb = pa[0], pb[0]
     if not (np.isfinite(ha) and np.isfinite(hb) and ha * hb > 0.0):
         return False
-    return (_reach(pa, dx, lip, yaw, left, right, bound)
-            + _reach(pb, dx, lip, yaw, left, right, bound) >= dx)
+    return (_reach(pa, dx, lip, yt, left, right, bound)
+            + _reach(pb, dx, lip, yt, left, right, bound) >= dx)
 
 
 @njit(cache=True)
