@@ -93,7 +93,7 @@ class Field:
         radii, curvatures, forces are each wheel's own. Both: the pose ``(-y, yaw)``. lutmpi's
         solver is symmetric under both (``tests/unit/test_table_mirror.py``): to the bit in
         the first, to rounding (1e-14 relative) in the second."""
-        swap, comps, negate = _reflection_plan(self, sides, longitudinal)
+        swap, comps, negate = _reflection_plan(self.name, sides, longitudinal)
         v = np.array(value, dtype=self.dtype)
         if swap:
             v = v[::-1].copy()
@@ -107,11 +107,13 @@ class Field:
 
 
 @functools.cache
-def _reflection_plan(field: Field, sides: bool, longitudinal: bool
+def _reflection_plan(name: str, sides: bool, longitudinal: bool
                      ) -> tuple[bool, tuple[int, ...], bool]:
-    """What :meth:`Field.reflected` does to ``field``'s values: reverse the per-wheel axis, the
-    vector components whose sign changes, and whether the whole value's sign does (decided once
-    per field and reflection: a mirrored build reflects ~10^5 values)."""
+    """What :meth:`Field.reflected` does to the values of the field ``name``: reverse the
+    per-wheel axis, the vector components whose sign changes, and whether the whole value's sign
+    does (decided once per field and reflection, keyed by the name, whose hash Python keeps: a
+    mirrored build reflects ~10^5 values)."""
+    field = FIELDS_BY_NAME[name]
     vector = field.per_contact and field.suffix[2:] == (3,)
     swap = sides and field.suffix[:1] == (len(SIDES),)
     comps = tuple(c for c, on in ((1, sides), (0, longitudinal)) if on and vector)
