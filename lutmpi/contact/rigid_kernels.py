@@ -537,13 +537,6 @@ def contact_minima(gap, double_tol, max_contacts):
 
 
 @njit(cache=True)
-def scan_side(sgn, side, R, y, gap, fine, U, PZ):
-    """Touching height of one wheel from its coarse samples (:func:`scan_side_info`'s first
-    value); -inf when no point is over the rail."""
-    return scan_side_info(sgn, side, R, y, gap, fine, U, PZ)[0]
-
-
-@njit(cache=True)
 def scan_side_info(sgn, side, R, y, gap, fine, U, PZ):
     """Touching height of one wheel from its coarse samples, refined on every sample within one
     coarse step of each coarse local minimum less than :data:`SCAN_BAND` above the smallest and

@@ -113,10 +113,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
                      "interpolants %s", method, counts["cells"], int(js.count.sum()),
                      int(js.count.max(initial=0)), int(np.isfinite(js.knot_y).sum()),
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
-            for j, lo, hi in counts["in_part"]:
-                log.warning("%s: more than %d jumps between y = %.4f and %.4f mm at yaw %.4g "
-                            "rad: located in part (the table interpolates across the others)",
-                            method, _jumps.MAX_PER_CELL, lo * 1e3, hi * 1e3, grid.yaw[j])
+            _jumps.warn_in_part(counts["in_part"], grid.yaw, method)
             if mirror is not None:
                 log.info("%s: mirrored (%s): %d of %d candidate cells and %d of %d refined "
                          "intervals taken from their images, not solved", method, why,

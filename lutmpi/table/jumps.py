@@ -658,9 +658,7 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
                        mirror.cells(cells) if mirror else None,
                        mirror.cell_result if mirror else None)
     found, extra = found_and_samples(cells, res)
-    for j, lo, hi in searched_in_part(arrays, y_axis, cells, res):
-        log.warning("more than %d jumps between y = %.4f and %.4f mm at yaw %.4g rad: located "
-                    "in part", MAX_PER_CELL, lo * 1e3, hi * 1e3, yaw_axis[j])
+    warn_in_part(searched_in_part(arrays, y_axis, cells, res), yaw_axis)
     if refine:
         items = refinement_plan(arrays, y_axis, yaw_axis.size, found, extra)
         refined = mirrored_map(items, lambda todo: [refine_interval(
@@ -708,6 +706,17 @@ def searched_in_part(arrays: dict[str, np.ndarray], y_axis: np.ndarray,
                for k in range(0, len(ends), 2)):
             out.append((j, float(y_axis[i]), float(y_axis[i + 1])))
     return out
+
+
+def warn_in_part(in_part: Sequence[tuple[int, float, float]], yaw_axis: np.ndarray,
+                 method: str = "") -> None:
+    """A warning for each cell of :func:`searched_in_part` (``method``: the table's, named
+    first when given)."""
+    for j, lo, hi in in_part:
+        log.warning("%smore than %d jumps between y = %.4f and %.4f mm at yaw %.4g rad: located "
+                    "in part (the table interpolates across the others)",
+                    f"{method}: " if method else "", MAX_PER_CELL, lo * 1e3, hi * 1e3,
+                    yaw_axis[j])
 
 
 def refinement_plan(arrays: dict[str, np.ndarray], y_axis: np.ndarray, nyaw: int,

@@ -311,6 +311,8 @@ def test_the_scans_local_bound_holds(pair):
     assert checked > 2000
     assert tight > 0.8, tight   # the bound is nearly reached: a missing term would show
     # where it applies the local bound is a small part of the wheel's share of the global one
+    # (measured: a median of 0.13-0.14 on the three pairs: the tread's slopes, not the gauge
+    # face's 13; 0.3 leaves room for other pairs)
     assert np.median(ratios) < 0.3, np.median(ratios)
 
 
