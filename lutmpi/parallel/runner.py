@@ -392,7 +392,7 @@ def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
                                       out=rows, first=first)
             busy += spent
             for k, (_, g, n) in enumerate(extra):
-                g.fill_row(rows, first + n, first + len(points) + k)
+                writer.reflect(first + n, first + len(points) + k, g)
             writer.commit(np.concatenate([points, np.array([q for q, _, _ in extra],
                                                            dtype=points.dtype)]))
             end = time.perf_counter()

@@ -221,6 +221,12 @@ class TableWriter:
                            for m in self.methods}
         return self._views, self._store[-1][1]
 
+    def reflect(self, src: int, dst: int, g: Any) -> None:
+        """Row ``dst`` of the rows last claimed set to row ``src`` reflected by ``g`` (a
+        :class:`~lutmpi.table.jumps.Reflection`; :meth:`~lutmpi.table.jumps.Reflection.
+        fill_struct_row`, the whole row at once), both row numbers as :meth:`claim` counts."""
+        g.fill_struct_row(self._store[-1][0], src, dst)
+
     def commit(self, points: np.ndarray) -> None:
         """Journal the ``len(points)`` rows last claimed, now filled, as ``points``' records
         (this rank only, no communication)."""

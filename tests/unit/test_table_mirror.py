@@ -20,6 +20,7 @@ from lutmpi.config import load_config
 from lutmpi.config.model import ALL_METHODS
 from lutmpi.paths import REPO_ROOT
 from lutmpi.scene import Scene
+from lutmpi.table import journal
 from lutmpi.table import jumps as tj
 from lutmpi.table.compute import compute_points, default_solver, pose_to_record
 from lutmpi.table.grid import Grid
@@ -272,6 +273,40 @@ def test_grid_plan_solves_one_point_per_orbit():
     solve, images = mirror.grid_plan(todo)
     orbit0 = {2, 12, 14}                        # (0, 2), (4, 2), (4, 0): 0's images
     assert orbit0 <= set(solve.tolist()) and all(images[p] == [] for p in orbit0)
+
+
+def test_a_journal_row_reflected_on_its_bytes_is_every_field_reflected():
+    """The build's grid reflects a journal row at once on its bytes (``fill_struct_row``):
+    the same bits as :meth:`Field.reflected` field by field (``fill_row``) for each reflection,
+    NaN of either sign, signed zeros, integers; compute time 0 and the point index copied."""
+    methods = ("load_centre", "reference")
+    dtype = journal.record_dtype(methods, FIELDS)
+    rows = journal.empty_rows(dtype, methods, FIELDS, 4)
+    rng = np.random.default_rng(7)
+    for name in dtype.names:
+        a = rows[name]
+        if a.dtype.kind == "f":
+            v = rng.normal(size=a.shape)
+            pick = rng.random(a.shape)
+            v[pick < 0.4] = 0.0
+            v[pick < 0.3] = -0.0
+            v[pick < 0.2] = np.nan
+            v[pick < 0.1] = -np.nan
+            a[...] = v
+        else:
+            a[...] = rng.integers(-3, 100, size=a.shape)
+    rows["point"] = [11, -1, -1, -1]
+    for g in (SIDES_, LONG, BOTH):
+        want = rows.copy()
+        g.fill_row({m: {f.name: want[f"{m}/{f.name}"] for f in FIELDS} for m in methods}, 0, 2)
+        got = rows.copy()
+        g.fill_struct_row(got, 0, 2)
+        for name in dtype.names:
+            if name == "point":
+                assert got[name][2] == 11
+            else:
+                assert got[name][2].tobytes() == want[name][2].tobytes(), (g, name)
+        assert got[1].tobytes() == rows[1].tobytes() and got["load_centre/compute_time"][2] == 0
 
 
 def test_a_mirrored_grid_is_the_direct_grid(tmp_path, monkeypatch):
