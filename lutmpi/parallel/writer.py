@@ -44,7 +44,7 @@ from lutmpi.parallel.comm import root_decides
 from lutmpi.table import h5io, journal, provenance
 from lutmpi.table.grid import Grid
 from lutmpi.table.lock import OutputLock, lock_path
-from lutmpi.table.schema import Field
+from lutmpi.table.schema import Field, RowReflection, row_reflection
 
 log = logging.getLogger(__name__)
 
@@ -106,6 +106,8 @@ class TableWriter:
         #: (:meth:`claim`): the chunks, each with its rows committed so far
         self._store: list[tuple[np.ndarray, int]] = []
         self._views: Records = {}
+        self._bytes = np.zeros((0, 0), dtype=np.uint8)   # the last chunk's rows as bytes
+        self._reflections: dict[Any, RowReflection] = {}  # Reflection -> its row_reflection
         self._lock = OutputLock(self.out)
         self._journal: journal.JournalWriter | None = None
 
@@ -219,13 +221,18 @@ class TableWriter:
             self._store.append((chunk, 0))
             self._views = {m: {f.name: chunk[f"{m}/{f.name}"] for f in self.fields}
                            for m in self.methods}
+            self._bytes = chunk.view(np.uint8).reshape(len(chunk), chunk.dtype.itemsize)
         return self._views, self._store[-1][1]
 
     def reflect(self, src: int, dst: int, g: Any) -> None:
         """Row ``dst`` of the rows last claimed set to row ``src`` reflected by ``g`` (a
         :class:`~lutmpi.table.jumps.Reflection`; :meth:`~lutmpi.table.jumps.Reflection.
-        fill_struct_row`, the whole row at once), both row numbers as :meth:`claim` counts."""
-        g.fill_struct_row(self._store[-1][0], src, dst)
+        fill_struct_row`, the whole row at once; its plan kept per reflection), both row numbers
+        as :meth:`claim` counts."""
+        plan = self._reflections.get(g)
+        if plan is None:
+            plan = self._reflections[g] = row_reflection(self.dtype, g.sides, g.longitudinal)
+        plan.apply_bytes(self._bytes, src, dst)
 
     def commit(self, points: np.ndarray) -> None:
         """Journal the ``len(points)`` rows last claimed, now filled, as ``points``' records

@@ -145,7 +145,10 @@ class RowReflection:
     def apply(self, rows: np.ndarray, src: int, dst: int) -> None:
         """Row ``dst`` of the structured array ``rows`` (contiguous) set to row ``src``
         reflected."""
-        b = rows.view(np.uint8).reshape(rows.size, rows.dtype.itemsize)
+        self.apply_bytes(rows.view(np.uint8).reshape(rows.size, rows.dtype.itemsize), src, dst)
+
+    def apply_bytes(self, b: np.ndarray, src: int, dst: int) -> None:
+        """:meth:`apply` on the rows' bytes ``b`` (uint8, shape ``(rows, itemsize)``)."""
         np.bitwise_xor(b[src][self.perm], self.mask, out=b[dst])
         for start, stop in self.zero:
             b[dst, start:stop] = 0
