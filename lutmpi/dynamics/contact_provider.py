@@ -291,7 +291,7 @@ class TableProvider:
                                 float(table.attribute("wheel_flange_angle")))
         q = ip.kv.shape[2]
         self._v, self._dy, self._dw = np.empty(q), np.empty(q), np.empty(q)
-        self._tv, self._td = np.empty((4, q)), np.empty((4, q))
+        self._tv, self._td = np.empty((8, q)), np.empty((8, q))
         self._last_good: ContactGeometry | None = None
         self.calls = 0
 

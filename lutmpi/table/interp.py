@@ -33,6 +33,16 @@ Representation (built once per table and method, :func:`build`):
   too), or the secant when neither outer column answers. Where the two pieces do not correspond
   (a jump without a partner bounds one of them) the blend is linear. On a column the yaw slope
   is the cubic's (the same from either cell).
+* Beside a paired jump (within :data:`WARP_STEPS` grid steps of y), the quantities that jump
+  are read in each column at the query's distance from that column's own jump, not at the
+  query's y (:func:`_warp`): the contact runs up a steep onset next to a flange jump, and two
+  columns read at one y sit at different points of it (on the paper and Manchester 37x37
+  load-centre tables, 15 and 17 of ~2 850 poses between columns erred by more than 0.1 mm of
+  rolling radius read at y, 8 and 9 read so). Not where a jump moves more than a quarter of
+  that reach between the columns (a branch that stays put in y while its jump moves), nor in
+  a piece narrower than :data:`NARROW_STEPS` grid steps (a flickering second contact, whose
+  cluster of jumps pairs arbitrarily); an outer column that cannot be read so gives those
+  quantities no slope. The wheelset's pose is read at y.
 * A piece is extended by at most :data:`EXTEND_STEPS` grid steps for the quantities that jump
   with the contact (:func:`_jumping`: contact points, radii, angles, forces): farther, that
   column does not answer them and the other column, whose piece holds the query, answers alone
@@ -81,6 +91,13 @@ KINKING = (D.z_g, D.roll)
 #: knots to reach a query between columns does not answer it for the quantities that jump (the
 #: other column alone does; an outer column gives no slope)
 EXTEND_STEPS = 0.1
+#: a piece narrower than this many grid steps of y (in a column, or between the jump curves at
+#: the query's yaw) is read at the query's y, not at its distance from the jumps
+#: (:func:`_warp`): the load centre's second contact comes and goes several times within a
+#: grid step, and which jumps of two columns' clusters pair up is arbitrary
+NARROW_STEPS = 0.25
+#: the reach of :func:`_warp` beside a jump, in grid steps of y
+WARP_STEPS = 1.0
 
 
 @dataclass(frozen=True)
@@ -640,10 +657,62 @@ def _corresponding(pair, nj, j, o, p):  # noqa: ANN001
 
 
 @numba.njit(cache=True)
+def _warp(y, lo_s, lo_c, hi_s, hi_c, reach):  # noqa: ANN001
+    """Where a column is evaluated for a query at ``y`` in a piece bounded by paired jumps at
+    ``lo_s``, ``hi_s`` on their jump curves at the query's yaw and at ``lo_c``, ``hi_c`` in
+    that column (NaN: the grid's end, no jump): ``(y_c, dy_c/dy, ok)``. Within half of ``reach``
+    from a bound the column is read at the same distance from its own jump as the query is
+    from the curve (``y_c - lo_c = y - lo_s``), blending linearly back to ``y_c = y`` at
+    ``reach``; where the two zones would overlap (a piece narrower than twice the reach) the
+    piece is mapped affinely onto the column's. Only where each jump lies within a quarter of
+    the reach of its curve (the map then increases, slope >= 1/2) and the piece is not narrow
+    (:data:`NARROW_STEPS`); else at ``y`` itself, and ``ok`` is False (the lookup then reads
+    every column at ``y``: a query's columns are read alike). Beside a jump the contact runs
+    up its steep onset within tenths of a millimetre (a flange: tens of degrees of contact
+    angle): read at the same y, two columns whose jumps lie apart by a fraction of that are
+    at different points of the onset, and their blend errs by millimetres."""
+    has_lo = not np.isnan(lo_s)
+    has_hi = not np.isnan(hi_s)
+    if has_lo and has_hi and not (min(hi_s - lo_s, hi_c - lo_c) >= NARROW_STEPS * reach):
+        # a narrow piece (a contact flickering within a cluster of jumps: which of the
+        # cluster's jumps pair up is arbitrary) or curves that crossed: read at y
+        return y, 1.0, False
+    s_lo = lo_c - lo_s if has_lo else 0.0
+    s_hi = hi_c - hi_s if has_hi else 0.0
+    if max(abs(s_lo), abs(s_hi)) > 0.25 * reach:
+        # a jump that moves farther than that between columns: what lies beside it
+        # in one column need not lie beside it in the other (a branch that stays put in y
+        # while its jump moves); read at y
+        return y, 1.0, False
+    if has_lo and has_hi and 2.0 * reach > hi_s - lo_s:
+        k = (hi_c - lo_c) / (hi_s - lo_s)
+        return lo_c + (y - lo_s) * k, k, True
+    if has_lo and y - lo_s < reach:
+        if y - lo_s <= 0.5 * reach:
+            return y + s_lo, 1.0, True
+        return y + 2.0 * s_lo * (1.0 - (y - lo_s) / reach), 1.0 - 2.0 * s_lo / reach, True
+    if has_hi and hi_s - y < reach:
+        if hi_s - y <= 0.5 * reach:
+            return y + s_hi, 1.0, True
+        return y + 2.0 * s_hi * (1.0 - (hi_s - y) / reach), 1.0 + 2.0 * s_hi / reach, True
+    return y, 1.0, True
+
+
+@numba.njit(cache=True)
+def _bound(jy, nj, c, p):  # noqa: ANN001
+    """The jumps bounding piece ``p`` of column ``c``: ``(lower, upper)`` (m; NaN: the grid's
+    end)."""
+    lo = jy[c, p - 1] if p >= 1 else np.nan
+    hi = jy[c, p] if p < nj[c] else np.nan
+    return lo, hi
+
+
+@numba.njit(cache=True)
 def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # noqa: ANN001
                jumps, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):
-    """One pose into ``out_v``, ``out_dy``, ``out_dw`` (Q,); ``tmp_v``, ``tmp_d`` (4, Q) scratch
-    (the columns j - 1 .. j + 2 around the query's yaw).
+    """One pose into ``out_v``, ``out_dy``, ``out_dw`` (Q,); ``tmp_v``, ``tmp_d`` (8, Q) scratch
+    (the columns j - 1 .. j + 2 around the query's yaw, rows 0-3 read at ``y``, rows 4-7 where
+    :func:`_warp` moves them, for the quantities that jump).
 
     Returns ``(flags, piece, jump_dist)`` (see :meth:`Interpolator.evaluate`).
     """
@@ -726,14 +795,58 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
         return flags, p, dist
     _piece_eval(ky, kv, kd, mode, j + 1, pstart[j + 1, p1], pstart[j + 1, p1 + 1], y, 1.0,
                 tmp_v[2], tmp_d[2], False)
+    h_y = (y_axis[-1] - y_axis[0]) / (y_axis.size - 1) if y_axis.size > 1 else 0.0
+    # the outer columns' pieces (the cubic in yaw below)
+    pl = _corresponding(down, nj, j, j - 1, p0) if paired and j >= 1 else -1
+    pu = _corresponding(up, nj, j + 1, j + 2, p1) if paired and j + 2 <= na - 1 else -1
+    lower = pl >= 0
+    upper = pu >= 0
+    # the quantities that jump are read in each column at the query's distance from the
+    # piece's bounding jumps (:func:`_warp`), where the pieces correspond and every column
+    # allows it
+    warp = paired and w > 0.0 and w < 1.0
+    ls, us = np.nan, np.nan
+    if warp:
+        if p0 >= 1:
+            ls = _jump_at(jy, up, down, j, p0 - 1, up[j, p0 - 1], w)
+        if p0 < nj[j]:
+            us = _jump_at(jy, up, down, j, p0, up[j, p0], w)
+    ycs = np.full(4, y)
+    slopes = np.ones(4)
+    lower_j, upper_j = lower, upper   # the outer columns that answer the quantities that jump
+    cols = ((0, j - 1, pl, lower), (1, j, p0, True), (2, j + 1, p1, True), (3, j + 2, pu, upper))
+    if warp:
+        for r, c, pc, on in cols:
+            if on:
+                lc, uc = _bound(jy, nj, c, pc)
+                ycs[r], slopes[r], ok = _warp(y, ls, lc, us, uc, WARP_STEPS * h_y)
+                if not ok and r in (1, 2):
+                    warp = False      # the two columns are read alike, or both at y
+                elif not ok and r == 0:
+                    lower_j = False   # an outer column that cannot be read alike gives no
+                elif not ok:          # slope to the quantities that jump
+                    upper_j = False
+    if not warp:
+        ycs[:] = y
+        slopes[:] = 1.0
+        lower_j, upper_j = lower, upper
+    for r, c, pc, on in cols:
+        if on and r in (0, 3):
+            _piece_eval(ky, kv, kd, mode, c, pstart[c, pc], pstart[c, pc + 1], y, 1.0,
+                        tmp_v[r], tmp_d[r], False)
+        if on and warp:
+            _piece_eval(ky, kv, kd, mode, c, pstart[c, pc], pstart[c, pc + 1], ycs[r], 1.0,
+                        tmp_v[r + 4], tmp_d[r + 4], False)
+        elif on:
+            tmp_v[r + 4, :] = tmp_v[r, :]
+            tmp_d[r + 4, :] = tmp_d[r, :]
     # a column whose piece would be extended far beyond its end knots (its jump moved farther
     # than the grid resolves between the columns) does not answer: the other column alone
     only = -1
-    lim = (EXTEND_STEPS * (y_axis[-1] - y_axis[0]) / (y_axis.size - 1) if y_axis.size > 1
-           else 0.0)
+    lim = EXTEND_STEPS * h_y
     if w > 0.0 and w < 1.0:
-        e0 = _beyond(ky, pstart, j, p0, y)
-        e1 = _beyond(ky, pstart, j + 1, p1, y)
+        e0 = _beyond(ky, pstart, j, p0, ycs[1])
+        e1 = _beyond(ky, pstart, j + 1, p1, ycs[2])
         if e0 > lim and e1 <= lim:
             only = 2
         elif e1 > lim and e0 <= lim:
@@ -746,26 +859,21 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     # (on a column too: its yaw slope is the cubic's, the same from either cell)
     # (an outer column whose piece would be extended far to reach the query gives no slope to
     # the quantities that jump)
-    pl = _corresponding(down, nj, j, j - 1, p0) if paired and j >= 1 else -1
-    pu = _corresponding(up, nj, j + 1, j + 2, p1) if paired and j + 2 <= na - 1 else -1
-    lo_far = pl >= 0 and _beyond(ky, pstart, j - 1, pl, y) > lim
-    up_far = pu >= 0 and _beyond(ky, pstart, j + 2, pu, y) > lim
-    lower = pl >= 0
-    upper = pu >= 0
-    if lower:
-        _piece_eval(ky, kv, kd, mode, j - 1, pstart[j - 1, pl], pstart[j - 1, pl + 1], y, 1.0,
-                    tmp_v[0], tmp_d[0], False)
-    if upper:
-        _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, pu], pstart[j + 2, pu + 1], y, 1.0,
-                    tmp_v[3], tmp_d[3], False)
+    lo_far = lower and _beyond(ky, pstart, j - 1, pl, ycs[0]) > lim
+    up_far = upper and _beyond(ky, pstart, j + 2, pu, ycs[3]) > lim
     step = yaw_axis[j + 1] - yaw_axis[j]
     w2 = w * w
     w3 = w2 * w
     h00, h10, h01, h11 = 2 * w3 - 3 * w2 + 1, w3 - 2 * w2 + w, -2 * w3 + 3 * w2, w3 - w2
     g00, g10, g01, g11 = 6 * w2 - 6 * w, 3 * w2 - 4 * w + 1, -6 * w2 + 6 * w, 3 * w2 - 2 * w
     for c in range(q):
-        a, b = tmp_v[1, c], tmp_v[2, c]
-        da, db = tmp_d[1, c], tmp_d[2, c]
+        o = 4 if jumps[c] else 0       # the warped rows for the quantities that jump
+        a, b = tmp_v[1 + o, c], tmp_v[2 + o, c]
+        da, db = tmp_d[1 + o, c] * slopes[1], tmp_d[2 + o, c] * slopes[2]
+        v0, v3 = tmp_v[o, c], tmp_v[3 + o, c]
+        d0, d3 = tmp_d[o, c] * slopes[0], tmp_d[3 + o, c] * slopes[3]
+        if not jumps[c]:
+            da, db, d0, d3 = tmp_d[1, c], tmp_d[2, c], tmp_d[0, c], tmp_d[3, c]
         if mode[c] == 2:
             out_v[c] = a if w < 0.5 else b
             out_dy[c] = 0.0
@@ -775,20 +883,20 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
         mb = b - a
         sa = db - da
         sb = db - da
-        lo_ok = lower and np.isfinite(tmp_v[0, c]) and not (lo_far and jumps[c])
-        up_ok = upper and np.isfinite(tmp_v[3, c]) and not (up_far and jumps[c])
+        lo_ok = (lower_j if jumps[c] else lower) and np.isfinite(v0) and not (lo_far and jumps[c])
+        up_ok = (upper_j if jumps[c] else upper) and np.isfinite(v3) and not (up_far and jumps[c])
         if lo_ok:
-            ma = 0.5 * (b - tmp_v[0, c])
-            sa = 0.5 * (db - tmp_d[0, c])
+            ma = 0.5 * (b - v0)
+            sa = 0.5 * (db - d0)
             if not up_ok:        # edge cell: second-order one-sided slope at j + 1
-                mb = 0.5 * (3 * b - 4 * a + tmp_v[0, c])
-                sb = 0.5 * (3 * db - 4 * da + tmp_d[0, c])
+                mb = 0.5 * (3 * b - 4 * a + v0)
+                sb = 0.5 * (3 * db - 4 * da + d0)
         if up_ok:
-            mb = 0.5 * (tmp_v[3, c] - a)
-            sb = 0.5 * (tmp_d[3, c] - da)
+            mb = 0.5 * (v3 - a)
+            sb = 0.5 * (d3 - da)
             if not lo_ok:        # edge cell: second-order one-sided slope at j
-                ma = 0.5 * (-3 * a + 4 * b - tmp_v[3, c])
-                sa = 0.5 * (-3 * da + 4 * db - tmp_d[3, c])
+                ma = 0.5 * (-3 * a + 4 * b - v3)
+                sa = 0.5 * (-3 * da + 4 * db - d3)
         if w == 0.0:
             out_v[c] = a
             out_dy[c] = da
@@ -800,8 +908,8 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
             out_dy[c] = h00 * da + h10 * sa + h01 * db + h11 * sb
         out_dw[c] = (g00 * a + g10 * ma + g01 * b + g11 * mb) / step
         if only > 0 and jumps[c]:
-            out_v[c] = tmp_v[only, c]
-            out_dy[c] = tmp_d[only, c]
+            out_v[c] = tmp_v[only + 4, c]
+            out_dy[c] = tmp_d[only + 4, c] * slopes[only]
             out_dw[c] = 0.0
     return flags, p, dist
 
@@ -811,8 +919,8 @@ def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # n
     """:func:`lookup_one` over a batch (``arrays`` = :attr:`Interpolator.arrays`)."""
     y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps = arrays
     q = kv.shape[2]
-    tmp_v = np.empty((4, q))
-    tmp_d = np.empty((4, q))
+    tmp_v = np.empty((8, q))
+    tmp_d = np.empty((8, q))
     for i in range(y.size):
         f, p, d = lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,
                              jumps, y[i], yaw[i], out_v[i], out_dy[i], out_dw[i], tmp_v, tmp_d)

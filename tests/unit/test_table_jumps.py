@@ -318,6 +318,42 @@ def test_a_jump_moving_several_steps_between_columns_is_still_followed():
     assert not (flags[~crossed] & ti.UNMATCHED).any() and (flags[crossed] & ti.UNMATCHED).any()
 
 
+def test_a_steep_onset_moving_with_its_jump_is_read_at_the_jump_distance_in_each_column():
+    """Beside a flange jump the contact runs up a steep onset that moves with the jump (here
+    0.47 + 2 mm * sqrt(u / 1 mm), u the distance above the jump, which moves 40 um per 10 mrad
+    column). Between columns each column is read at the query's distance from its own jump
+    (``interp._warp``), so the columns agree and the blend is the onset itself; read at the same
+    y they sit at points of the onset 40 um apart and the blend misses it by up to 38 um (with
+    the warp off, ``WARP_STEPS = 0``; 2 um with it)."""
+    at = lambda yaw: 0.2e-3 + 0.004 * yaw                          # noqa: E731 - m
+    onset = lambda u: 0.47 + 2e-3 * np.sqrt(np.maximum(u, 0.0) / 1e-3)   # noqa: E731
+    y_axis = np.linspace(-4e-3, 4e-3, 17)
+    yaw_axis = np.linspace(-0.02, 0.02, 5)
+    pos = at(yaw_axis)
+
+    def value(y, yaw_pos):
+        return np.where(y >= yaw_pos, onset(y - yaw_pos), 0.46 + 0.05 * y)
+
+    rr = value(y_axis[:, None], pos[None, :])
+    lo, hi = pos - 2e-6, pos + 2e-6
+    jumps = {"jump_y": pos[:, None], "jump_y_lo": lo[:, None], "jump_y_hi": hi[:, None],
+             "jump_side": np.ones((5, 1), np.int8)}
+    limits = {"rolling_radius": np.stack([value(lo, pos + 1.0), value(hi, pos)],
+                                         axis=1)[:, None, :]}
+    # the refinement's knots above each column's jump (every 5 um up to 0.6 mm)
+    u = np.arange(5e-6, 0.6e-3, 5e-6)
+    knot_y = pos[:, None] + u[None, :]
+    knots = {"rolling_radius": onset(u)[None, :].repeat(5, axis=0)}
+    ip = ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, limits, knot_y, knots,
+                  modes={"rolling_radius": "pchip"})
+    rng = np.random.default_rng(11)
+    yaw = rng.uniform(-0.015, 0.015, 400)
+    yaw = yaw[~np.isin(np.round(yaw, 9), np.round(yaw_axis, 9))]
+    q = rng.uniform(20e-6, 200e-6, yaw.size)              # above the jump curve, in its onset
+    got = ip.evaluate(at(yaw) + q, yaw)[0][:, 0]
+    assert np.abs(got - onset(q)).max() < 2e-6
+
+
 def test_a_jump_curve_bending_with_yaw_is_followed_where_it_bends():
     """A jump curve bends with yaw (evenly about yaw 0 on a symmetric pair): here y = 0.2 mm +
     8 m/rad^2 yaw^2 on five columns 10 mrad apart, 0.2 mm off the straight line between two
