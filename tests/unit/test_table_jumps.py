@@ -87,9 +87,13 @@ def test_each_jump_is_located_within_the_tolerance(synthetic_table):
 
 
 def test_a_query_across_a_jump_never_returns_a_blend(synthetic_table):
-    """Near the jump every interpolated rolling radius is on one of the two branches (the
-    branches are linear in y, so the jump-aware answer is exact up to round-off); the plain
-    interpolation over the grid nodes blends them."""
+    """Near the jump every interpolated rolling radius is on one of the two branches; the plain
+    interpolation over the grid nodes blends them (by millimetres). The branches here are
+    linear in y and stay put while the jump moves with yaw: read at y the jump-aware answer
+    would be exact; within a grid step of the jump each column is read at the query's distance
+    from its own jump instead (``interp._warp``: a flange onset moves with its jump), which
+    for branches that stay put costs their slope times the jump's shift between the columns
+    (here up to 0.5 um)."""
     y_axis, yaw_axis, arrays, _, ip, _ = synthetic_table
     plain = ti.build(y_axis, yaw_axis, arrays)
     off = ip.layout.slots["rolling_radius"][0]
@@ -103,8 +107,8 @@ def test_a_query_across_a_jump_never_returns_a_blend(synthetic_table):
     got = ip.evaluate(y, yaw)[0][:, off]
     tread, flange = 0.46 + 0.05 * y, 0.47 + y
     on_a_branch = np.minimum(np.abs(got - tread), np.abs(got - flange))
-    assert on_a_branch.max() < 1e-12
-    assert np.abs(got - want)[far].max() < 1e-12
+    assert on_a_branch.max() < 1e-6
+    assert np.abs(got - want)[far].max() < 1e-6
     blended = plain.evaluate(y, yaw)[0][:, off]
     assert np.minimum(np.abs(blended - tread), np.abs(blended - flange)).max() > 1e-3
 
