@@ -54,6 +54,16 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:     # Ctrl-C outside a build's compute loop: no traceback
         print(f"lutmpi {args.command}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:       # the reader of standard output went away (``| head``)
+        try:                      # nothing more reaches it; Python's own flush at exit must
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # not complain
+        except OSError:
+            pass
+        return 141               # as a process ended by SIGPIPE (128 + 13)
+    except OSError as exc:        # a file the command reads or writes: its path and the reason
+        name = f": {exc.filename}" if exc.filename else ""
+        print(f"lutmpi {args.command}: error: {exc.strerror or exc}{name}", file=sys.stderr)
+        return 1
     return int(rc or 0)
 
 

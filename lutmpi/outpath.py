@@ -16,23 +16,45 @@ from pathlib import Path
 from lutmpi.errors import OutputError
 
 
-def check_output_file(path: str | os.PathLike[str] | None, what: str = "output file") -> Path:
-    """Raise unless ``path`` can be written as a file; return it as a :class:`Path`.
+def check_output_file(path: str | os.PathLike[str] | None, what: str = "output file",
+                      inputs: tuple[str | os.PathLike[str] | None, ...] = ()) -> Path:
+    """Raise unless ``path`` can be written as a file and is none of the command's ``inputs``
+    (writing it would destroy the input: ``lutmpi query T.h5 -o T.h5``); return it as a
+    :class:`Path`.
 
     Raises
     ------
     OutputError
         Empty name, an existing folder / device / other non-regular file at the path, a missing
-        or unwritable parent folder.
+        or unwritable parent folder, the path of an input.
     """
     if path is None or not str(path).strip() or not Path(path).name:
         raise OutputError(f"the {what} path {'' if path is None else str(path)!r} names no file")
     p = Path(path)
+    for src in inputs:
+        if src is not None and str(src) != "-" and _same_file(p, Path(src)):
+            raise OutputError(f"{p} ({what}) is the command's input {src}: writing it would "
+                              "destroy the input; give another output path")
     if p.is_dir():
         raise OutputError(f"{p} ({what}) is a folder; give a file name")
     if p.exists() and not p.is_file():
         raise OutputError(f"{p} ({what}) exists and is not a regular file; it is never replaced")
     _writable_folder(p.parent if str(p.parent) else Path("."), what)
+    return p
+
+
+def check_figure_file(path: str | os.PathLike[str] | None, what: str = "figure",
+                      inputs: tuple[str | os.PathLike[str] | None, ...] = ()) -> Path:
+    """:func:`check_output_file`, and the file's extension one that matplotlib writes (``.png``,
+    ``.pdf``, ``.svg``, ...), not found out after the work."""
+    p = check_output_file(path, what, inputs)
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    kinds = FigureCanvasBase.get_supported_filetypes()
+    if p.suffix.lstrip(".").lower() not in kinds:
+        raise OutputError(f"{p} ({what}): a figure file needs one of the extensions "
+                          f"{', '.join('.' + k for k in sorted(kinds))}, got "
+                          f"{p.suffix or 'none'!r}")
     return p
 
 
@@ -68,3 +90,14 @@ def _writable_folder(folder: Path, what: str) -> None:
         probe.unlink()
     except OSError:         # the probe was made; a failed cleanup must not hide anything
         pass
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether ``a`` and ``b`` name one file (the same inode where both exist, else the same
+    absolute path)."""
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+    except OSError:
+        pass
+    return a.absolute() == b.absolute()

@@ -85,6 +85,11 @@ def _gauge_v(point: str | float, rail: Profile) -> float | None:
     if point == "depth":
         return None
     if point in ("first", "last"):
+        if f"file_{point}_point_mm" not in rail.meta:
+            raise ConfigError(f"gauge_point = {point!r} names a point of a rail profile file; "
+                              f"the rail {rail.name} is not read from a file (a generator): give "
+                              "a depth below the rail top (gauge_depth_mm) or a lateral "
+                              "coordinate in mm", key="rail.gauge_point")
         v = rail.meta[f"file_{point}_point_mm"][0] * 1e-3
         if rail.y_min - END_TOL_M <= v <= rail.y_max + END_TOL_M:
             v = min(max(v, rail.y_min), rail.y_max)

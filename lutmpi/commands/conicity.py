@@ -15,6 +15,8 @@ log = logging.getLogger(__name__)
 
 
 def register(subparsers: Any) -> None:
+    from lutmpi.commands._argtypes import positive
+
     p = subparsers.add_parser(
         "conicity", help="equivalent conicity vs amplitude (EN 15302 Annex B)",
         description="Equivalent conicity tan(gamma_e) against the amplitude of the kinematic "
@@ -31,9 +33,9 @@ def register(subparsers: Any) -> None:
                      "a run config (.toml)")
     src.add_argument("--dr", metavar="CSV", help="Δr file: columns y_mm, delta_r_mm (header ok)")
     p.add_argument("--method", help="method group of the table (default: its first)")
-    p.add_argument("--r0-mm", type=float, default=None,
+    p.add_argument("--r0-mm", type=positive, default=None,
                    help="nominal rolling radius (default: the table's, else 460)")
-    p.add_argument("--e-mm", type=float, default=1500.0,
+    p.add_argument("--e-mm", type=positive, default=1500.0,
                    help="distance between the nominal contact points (default 1500); r0 and e "
                         "set the wavelength only, not the conicity")
     p.add_argument("--amplitudes", default="1:7.5:0.1",
@@ -72,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
 
     for path, what in ((args.output, "CSV output"), (args.plot, "plot")):
         if path is not None:
-            check_output_file(path, what)      # before the work (issue 13)
+            check_output_file(path, what, inputs=(args.table, args.dr))  # before the work
     r0_mm = args.r0_mm
     try:
         amps = parse_amplitudes(args.amplitudes)

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
 
 def register(subparsers: Any) -> None:
+    from lutmpi.commands._argtypes import finite
     from lutmpi.export import FORMATS, format_module
 
     p = subparsers.add_parser(
@@ -17,7 +19,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--format", required=True, choices=list(FORMATS), help="output format")
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="output file (or an existing directory: the name follows the table's)")
-    p.add_argument("--yaw-rad", type=float, default=0.0,
+    p.add_argument("--yaw-rad", type=finite, default=0.0,
                    help="csv: the yaw of the 1-D functions, rad, a grid value (default 0)")
     p.add_argument("--method", default=None, help="csv: contact method (default: the first)")
     p.set_defaults(func=run)
@@ -25,7 +27,15 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from lutmpi.export import export
+    from lutmpi.outpath import check_output_dir, check_output_file
 
+    if args.format == "kpf" and Path(args.output).is_dir():
+        check_output_dir(args.output, "KPF output folder")
+    elif args.format == "kpf":      # a stem: <stem>.wheel, <stem>.rail (and per side)
+        check_output_file(Path(args.output).with_suffix(".wheel"), "KPF output",
+                          inputs=(args.table,))
+    else:
+        check_output_file(args.output, f"{args.format} output", inputs=(args.table,))
     for path in export(args.table, args.format, args.output, yaw=args.yaw_rad,
                        method=args.method):
         print(path)

@@ -108,10 +108,10 @@ def _categories(table: Any, quantity: str, codes: np.ndarray, label: str, case: 
 
 
 def run(args: argparse.Namespace) -> int:
-    from lutmpi.outpath import check_output_file
+    from lutmpi.outpath import check_figure_file
     from lutmpi.table import Table
 
-    check_output_file(args.output, "figure")
+    check_figure_file(args.output, "figure", inputs=(args.table,))
     plot(Table.open(args.table), args.quantity, args.output, args.method, args.side, args.slot,
          args.component)
     return 0

@@ -91,21 +91,26 @@ def _add_show(sub: argparse._SubParsersAction) -> None:
 
 #: ``profile`` sub-subcommands: each adds its parser (with ``set_defaults(func=...)``).
 def _add_plot(sub: argparse._SubParsersAction) -> None:
+    from lutmpi.commands._argtypes import within
+
     p = sub.add_parser("plot", help="both wheels on both rails, to scale (PNG)",
                        description="Draw the wheelset of CONFIG on its rails at its rigid "
                                    "contact pose for lateral shift --y-mm (yaw 0), to scale, "
                                    "with close-ups.")
     p.add_argument("config", help="run configuration (TOML)")
-    p.add_argument("--y-mm", type=float, default=0.0, help="lateral shift of the wheelset (mm)")
+    p.add_argument("--y-mm", type=within(100.0), default=0.0,
+                   help="lateral shift of the wheelset (mm, |y| <= 100)")
     p.add_argument("-o", "--output", default="track.png", help="output PNG")
     p.set_defaults(func=_run_plot)
 
 
 def _run_plot(args: argparse.Namespace) -> int:
     from lutmpi.config import load_config
+    from lutmpi.outpath import check_figure_file
     from lutmpi.reports.track_plot import plot_track
     from lutmpi.scene import Scene
 
+    check_figure_file(args.output, "figure", inputs=(args.config,))
     scene = Scene.from_config(load_config(args.config))
     out = plot_track(scene, args.output, y=args.y_mm * 1e-3)
     print(f"wrote {out}")

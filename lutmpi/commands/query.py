@@ -69,8 +69,11 @@ def query_rows(table: Any, poses: list[tuple[float, float]], method: str | None 
 
 def run(args: Any) -> int:
     from lutmpi.contact.poses import check_pose, read_poses
+    from lutmpi.outpath import check_output_file
     from lutmpi.table import Table
 
+    if args.output != "-":
+        check_output_file(args.output, "query output", inputs=(args.table, args.poses))
     poses = read_poses(args.poses) if args.poses else []
     for k, (y, yaw) in enumerate(args.pose):
         check_pose(y, yaw, f"--pose number {k + 1}")

@@ -8,6 +8,8 @@ from typing import Any
 
 
 def register(subparsers: Any) -> None:
+    from lutmpi.commands._argtypes import within
+
     p = subparsers.add_parser(
         "report", help="geometry report of a table, or convergence report of a sweep",
         description="For a table (T.h5): report.md with the contact-geometry functions of y "
@@ -29,9 +31,10 @@ def register(subparsers: Any) -> None:
                    help="force the wear/conicity section on or off (default: when the sweep "
                         "varies profiles or wear)")
     p.add_argument("--method", default=None, help="table: contact method (default: the first)")
-    p.add_argument("--at-y-mm", type=float, nargs="+", default=None, metavar="Y",
+    p.add_argument("--at-y-mm", type=within(100.0), nargs="+", default=None, metavar="Y",
                    help="table: lateral shifts drawn to scale (default: 0 and the largest y)")
     p.add_argument("--en15302-case", default=None, metavar="E1..E9",
+                   choices=[f"E{k}" for k in range(1, 10)],
                    help="table: draw this EN 15302 Annex E case's conicity tolerance band")
     # -- issue 11: the table-error section (jumps) --------------------------------------------
     p.add_argument("--table-error", nargs="*", default=None, metavar="OTHER.h5",

@@ -14,6 +14,8 @@ log = logging.getLogger(__name__)
 
 
 def register(subparsers: Any) -> None:
+    from lutmpi.commands._argtypes import finite, positive
+
     p = subparsers.add_parser(
         "simulate", help="wheelset dynamics on a lookup table (paper §6)",
         description="Integrate a free wheelset (Table 2 data) running at SPEED on tangent track "
@@ -24,12 +26,12 @@ def register(subparsers: Any) -> None:
                    help="configuration TOML (with --table, E, nu, r0 and the load come from "
                         "the table's attributes)")
     p.add_argument("--table", help="lookup table (HDF5); required unless --online")
-    p.add_argument("--speed", type=float, default=27.0, help="forward speed, m/s (default 27)")
-    p.add_argument("--duration", type=float, default=10.0, help="simulated time, s (default 10)")
+    p.add_argument("--speed", type=positive, default=27.0, help="forward speed, m/s (default 27)")
+    p.add_argument("--duration", type=positive, default=10.0, help="simulated time, s (default 10)")
     p.add_argument("-o", "--output", required=True, help="HDF5 file for the time histories")
     p.add_argument("--online", action="store_true", help="contact by a pose solve at every call")
     p.add_argument("--method", default=None, help="contact method (table group / solver method)")
-    p.add_argument("--vy0", type=float, default=0.1, help="initial lateral velocity, m/s (0.1)")
+    p.add_argument("--vy0", type=finite, default=0.1, help="initial lateral velocity, m/s (0.1)")
     p.add_argument("--integrator", default="LSODA", help="solve_ivp method (default LSODA)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNGs")
     p.set_defaults(func=run)
@@ -73,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     from lutmpi.outpath import check_output_file
     from lutmpi.providers import make_provider
 
-    check_output_file(args.output, "simulation output")
+    check_output_file(args.output, "simulation output", inputs=(args.config, args.table))
     provider, params, source = make_provider(args.config, args.table, args.online, args.method)
     res = simulate(provider, params, args.speed, args.duration, vy0=args.vy0,
                    method=args.integrator)

@@ -32,9 +32,12 @@ def register(subparsers: Any) -> None:
 def run(args: Any) -> int:
     from lutmpi.config import load_config
     from lutmpi.contact.poses import check_pose, read_poses
+    from lutmpi.outpath import check_output_file
     from lutmpi.pose.solve import solve_pose, warm
     from lutmpi.scene import Scene
 
+    if args.output != "-":
+        check_output_file(args.output, "solve output", inputs=(args.config, args.poses))
     poses = read_poses(args.poses) if args.poses else []
     for k, (y, yaw) in enumerate(args.pose):
         check_pose(y, yaw, f"--pose number {k + 1}")

@@ -120,7 +120,7 @@ _RULES: dict[str, tuple[typing.Callable[[Any], bool], str]] = {
     "contact.roll": _one_of(("solved", "zero")),
     "equilibrium.spring_N_per_m": _positive(),
     "equilibrium.torsion_spring_Nm_per_rad": _positive(),
-    "equilibrium.vertical_load_N": ((lambda v: v >= 0), "a number >= 0"),
+    "equilibrium.vertical_load_N": _positive(),
     "equilibrium.initial_kc_N_per_m": _positive(),
     "equilibrium.max_kc_N_per_m": _positive(),
     "equilibrium.max_iterations": ((lambda v: 1 <= v <= 100_000), "an integer in [1, 100000]"),

@@ -27,7 +27,7 @@ def read_poses(path: str | Path) -> list[tuple[float, float]]:
     columns ignored). Errors name the file and line."""
     path = str(path)
     try:
-        fh = open(path, newline="")
+        fh = open(path, newline="", encoding="utf-8-sig")   # a BOM (Excel's CSV) is no text
     except OSError as exc:
         raise ConfigError(f"cannot read poses file: {exc.strerror}", path=path) from None
     with fh:
@@ -40,6 +40,10 @@ def read_poses(path: str | Path) -> list[tuple[float, float]]:
     if missing:
         raise ConfigError(f"line {rows[0][0]}: header lacks {missing}; expected columns "
                           f"'y_mm,yaw_rad', got {header}", path=path)
+    twice = sorted({c for c in ("y_mm", "yaw_rad") if header.count(c) > 1})
+    if twice:
+        raise ConfigError(f"line {rows[0][0]}: the header names {twice} more than once, got "
+                          f"{header}", path=path)
     iy, iyaw = header.index("y_mm"), header.index("yaw_rad")
     out = []
     for line, r in rows[1:]:

@@ -445,6 +445,11 @@ def _summarize(comm: Any, writer: TableWriter, busy_all: np.ndarray, computed: i
         log.info("table %s: %d points (%d computed, %d reused) x %d method(s); status %s",
                  out, summary.points, computed, summary.reused, len(writer.methods),
                  summary.status_counts)
+        failed = {k: n for k, n in summary.status_counts.items() if k != "converged"}
+        if failed:
+            log.warning("%d of %d point results did not converge %s: stored with their status "
+                        "(lookups there give NaN); `lutmpi inspect` lists them, `lutmpi check` "
+                        "says why", sum(failed.values()), int(counts.sum()), failed)
         # names that say what they are: busy/(ranks x wall) is how busy the ranks were, not a
         # speed-up; summed busy / wall is the speed-up over one rank only if a point costs the
         # same with N ranks busy (measure it: benchmarks/strong_scaling.py)

@@ -79,6 +79,23 @@ def flange_thinning(wheel: Profile, thickness_mm: float) -> Profile:
         w = np.where(h <= h_sd, _cos_step((h - ROOT_HEIGHT_MM) / (h_sd - ROOT_HEIGHT_MM)),
                      _cos_step((h_tip - h) / (h_tip - h_sd)))
         face = (np.arange(y.size) > tip) & (y < 0.0)
+
+        def folds(tt: float) -> bool:
+            return not bool(np.all(np.diff(np.where(face, y - tt * w, y)) > 0.0))
+
+        if folds(t):
+            # between the Sd height and the tip that stays, the face moves less the higher it
+            # lies: a deep enough thinning folds the face over itself (z no longer a function
+            # of y). The largest thinning that does not, by bisection
+            lo, hi = 0.0, t
+            for _ in range(40):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (lo, mid) if folds(mid) else (mid, hi)
+            raise ProfileError(
+                f"[wear.wheel] flange_thinning_mm = {thickness_mm:g} folds the flange face of "
+                f"{wheel.name} over itself (the thinning tapers to zero at the flange tip, "
+                f"which stays): at most {math.floor(lo * 1e5) / 100:.2f} mm for this wheel",
+                path=wheel.source)
         y = np.where(face, y - t * w, y)
     return _worn(wheel, y, z, "flange_thinning", {"thickness_mm": float(thickness_mm)})
 

@@ -255,16 +255,32 @@ def equivalent_conicity(y, dr, amplitudes, r0: float = 0.46, e: float = 1.5) -> 
     return conicity_curve(y, dr, amplitudes, r0, e).tan_gamma_e
 
 
+#: most amplitudes one conicity curve takes (each is an integral over the Δr function)
+MAX_AMPLITUDES = 10_000
+
+
 def parse_amplitudes(text: str) -> np.ndarray:
-    """``"start:stop:step"`` (stop included) or ``"a,b,c"`` in mm → amplitudes in m."""
+    """``"start:stop:step"`` (stop included) or ``"a,b,c"`` in mm → amplitudes in m (finite,
+    > 0, at most :data:`MAX_AMPLITUDES`; ValueError otherwise)."""
     text = text.strip()
     if ":" in text:
         parts = [float(p) for p in text.split(":")]
         if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
             raise ValueError(f"amplitudes: expected start:stop:step with step > 0, got {text!r}")
+        if not all(math.isfinite(v) for v in parts):
+            raise ValueError(f"amplitudes: expected finite numbers, got {text!r}")
         n = int(math.floor((parts[1] - parts[0]) / parts[2] + 1e-9)) + 1
-        return (parts[0] + parts[2] * np.arange(n)) * 1e-3
-    return np.array([float(p) for p in text.split(",") if p.strip()]) * 1e-3
+        if n > MAX_AMPLITUDES:
+            raise ValueError(f"amplitudes: {text!r} gives {n} amplitudes, more than "
+                             f"{MAX_AMPLITUDES}")
+        amps = (parts[0] + parts[2] * np.arange(n)) * 1e-3
+    else:
+        amps = np.array([float(p) for p in text.split(",") if p.strip()]) * 1e-3
+    if amps.size == 0 or not (np.all(np.isfinite(amps)) and np.all(amps > 0.0)):
+        raise ValueError(f"amplitudes: expected finite amplitudes > 0 mm, got {text!r}")
+    if amps.size > MAX_AMPLITUDES:
+        raise ValueError(f"amplitudes: {amps.size} amplitudes, more than {MAX_AMPLITUDES}")
+    return amps
 
 
 def dr_from_table(table, method: str | None = None) -> tuple[np.ndarray, np.ndarray]:
