@@ -15,7 +15,7 @@ log = logging.getLogger(__name__)
 
 
 def register(subparsers: Any) -> None:
-    from lutmpi.commands._argtypes import positive
+    from lutmpi.argtypes import positive
 
     p = subparsers.add_parser(
         "conicity", help="equivalent conicity vs amplitude (EN 15302 Annex B)",

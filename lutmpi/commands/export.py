@@ -8,7 +8,7 @@ from typing import Any
 
 
 def register(subparsers: Any) -> None:
-    from lutmpi.commands._argtypes import finite
+    from lutmpi.argtypes import finite
     from lutmpi.export import FORMATS, format_module
 
     p = subparsers.add_parser(

@@ -91,7 +91,7 @@ def _add_show(sub: argparse._SubParsersAction) -> None:
 
 #: ``profile`` sub-subcommands: each adds its parser (with ``set_defaults(func=...)``).
 def _add_plot(sub: argparse._SubParsersAction) -> None:
-    from lutmpi.commands._argtypes import within
+    from lutmpi.argtypes import within
 
     p = sub.add_parser("plot", help="both wheels on both rails, to scale (PNG)",
                        description="Draw the wheelset of CONFIG on its rails at its rigid "

@@ -8,7 +8,7 @@ from typing import Any
 
 
 def register(subparsers: Any) -> None:
-    from lutmpi.commands._argtypes import within
+    from lutmpi.argtypes import within
 
     p = subparsers.add_parser(
         "report", help="geometry report of a table, or convergence report of a sweep",

@@ -14,7 +14,7 @@ log = logging.getLogger(__name__)
 
 
 def register(subparsers: Any) -> None:
-    from lutmpi.commands._argtypes import finite, positive
+    from lutmpi.argtypes import finite, positive
 
     p = subparsers.add_parser(
         "simulate", help="wheelset dynamics on a lookup table (paper §6)",

@@ -40,8 +40,14 @@ def test_flange_thinning_reduces_sd_by_the_amount(t):
 
 
 def test_flange_thinning_too_large_is_a_clear_error():
-    with pytest.raises(ProfileError, match="does not leave a valid profile"):
+    """A thinning that folds the face names the key and the largest thinning this wheel takes,
+    which itself is a profile."""
+    with pytest.raises(ProfileError, match=r"flange_thinning_mm = 8 folds .* at most (\d\.\d\d) mm"
+                       ) as exc:
         flange_thinning(WHEEL, 8.0)
+    most = float(exc.value.args[0].rsplit("at most ", 1)[1].split(" mm")[0])
+    assert 1.0 < most < 8.0
+    flange_thinning(WHEEL, most)
 
 
 @pytest.mark.parametrize("depth", [0.5, 1.0, 2.0])
