@@ -80,7 +80,8 @@ def run(args: Any) -> int:
         poses.append((y * 1e-3, yaw))
     if not poses:
         raise ConfigError("no poses: give --poses FILE.csv or --pose Y_MM YAW_RAD")
-    from lutmpi.export.csv_format import write_rows
+    from lutmpi.equilibrium.result import CONVERGED
+    from lutmpi.export.csv_format import status_text, write_rows
 
     table = Table.open(args.table)
     header, rows = query_rows(table, poses, args.method)
@@ -90,6 +91,12 @@ def run(args: Any) -> int:
         with open(args.output, "w", newline="") as fh:
             write_rows(fh, header, rows)
     flag = header.index("out_of_range")
+    text = header.index("status_text")
+    failed = [r for r in rows if not r[flag] and r[text] != status_text(CONVERGED)]
+    if failed:
+        log.warning("%d of %d poses lie where the table's points did not converge (first: "
+                    "y = %.4f mm, yaw = %.5f rad, %s): their values are empty", len(failed),
+                    len(rows), failed[0][0], failed[0][1], failed[0][text])
     outside = [r for r in rows if r[flag]]
     if outside:
         log.error("%d of %d poses outside the table grid (first: y = %.4f mm, yaw = %.5f rad); "

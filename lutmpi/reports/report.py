@@ -68,7 +68,8 @@ def load_sweep(outdir: str | Path) -> SweepData:
     """Read ``index.json`` and every table of status ``ok``/``partial`` (or every ``*.h5``)."""
     out = Path(outdir)
     if not out.is_dir():
-        raise TableError(f"{out}: no such sweep directory")
+        raise TableError(f"{out}: no such table file or sweep directory (lutmpi report takes "
+                         "a table, T.h5, or the folder lutmpi sweep wrote)")
     index_path = out / "index.json"
     if index_path.is_file():
         index = json.loads(index_path.read_text())["members"]

@@ -147,3 +147,16 @@ def test_a_poses_file_from_excel_reads_and_a_doubled_column_is_refused(tmp_path)
     p.write_text("y_mm,yaw_rad,y_mm\n1.5,0.01,2.0\n")
     with pytest.raises(ConfigError, match="more than once"):
         read_poses(p)
+
+
+def test_a_query_on_a_failed_point_warns_and_report_names_what_it_takes(table, tmp_path,
+                                                                        capfd):
+    _, t = table
+    capfd.readouterr()
+    # the faulty solver's point (-9 mm, -0.12 rad) stopped at max_iterations
+    assert main(["query", str(t), "--pose", "-9", "-0.12", "--pose", "0", "0",
+                 "-o", str(tmp_path / "q.csv")]) == 0
+    err = capfd.readouterr().err
+    assert "WARNING" in err and "1 of 2 poses lie where the table's points did not converge" in err
+    assert main(["report", str(tmp_path / "none.h5"), "-o", str(tmp_path / "r")]) == 1
+    assert "no such table file or sweep directory" in capfd.readouterr().err
