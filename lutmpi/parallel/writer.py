@@ -226,9 +226,9 @@ class TableWriter:
 
     def reflect(self, src: int, dst: int, g: Any) -> None:
         """Row ``dst`` of the rows last claimed set to row ``src`` reflected by ``g`` (a
-        :class:`~lutmpi.table.jumps.Reflection`; :meth:`~lutmpi.table.jumps.Reflection.
-        fill_struct_row`, the whole row at once; its plan kept per reflection), both row numbers
-        as :meth:`claim` counts."""
+        :class:`~lutmpi.table.jumps.Reflection`): the whole row at once on its bytes
+        (:func:`lutmpi.table.schema.row_reflection`, its plan kept per reflection), both row
+        numbers as :meth:`claim` counts."""
         plan = self._reflections.get(g)
         if plan is None:
             plan = self._reflections[g] = row_reflection(self.dtype, g.sides, g.longitudinal)

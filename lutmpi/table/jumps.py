@@ -62,16 +62,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from lutmpi.table.interp import KINKING
-from lutmpi.table.schema import (
-    FIELDS_BY_NAME,
-    JUMP_FIELDS,
-    TIMING_FIELDS,
-    D,
-    Field,
-    J,
-    reflection_plan,
-    row_reflection,
-)
+from lutmpi.table.schema import FIELDS_BY_NAME, JUMP_FIELDS, TIMING_FIELDS, D, Field, J
 
 log = logging.getLogger(__name__)
 
@@ -789,10 +780,6 @@ def mirror_pairs(keys: Sequence[Hashable], images: Sequence[tuple[Reflection, Ca
 MIRROR_AXIS_TOL = 1e-12
 
 
-#: each field's dtype (:meth:`Reflection.record`)
-_DTYPES = {name: np.dtype(f.dtype) for name, f in FIELDS_BY_NAME.items()}
-
-
 @dataclass(frozen=True)
 class Reflection:
     """A reflection of the track frame that maps the table's poses onto poses of its grid.
@@ -816,17 +803,9 @@ class Reflection:
         return self.sides != self.longitudinal
 
     def record(self, rec: Record) -> Record:
-        """A pose record at the reflected pose (:meth:`lutmpi.table.schema.Field.reflected`,
-        inlined: the jump step of a mirrored build reflects ~10^5 values; the same bits, each
-        value a new array)."""
-        out = {}
-        for name, v in rec.items():
-            swap, comps, negate = reflection_plan(name, self.sides, self.longitudinal)
-            w = np.array(v[::-1] if swap else v, dtype=_DTYPES[name])
-            for c in comps:
-                np.negative(w[..., c], out=w[..., c])
-            out[name] = np.negative(w, out=w) if negate else w
-        return out
+        """A pose record at the reflected pose (:meth:`lutmpi.table.schema.Field.reflected`)."""
+        return {name: FIELDS_BY_NAME[name].reflected(v, self.sides, self.longitudinal)
+                for name, v in rec.items()}
 
     def fill_row(self, rows: dict[str, dict[str, np.ndarray]], src: int, dst: int) -> None:
         """Row ``dst`` of every method's records (``method -> name -> array``) set to row
@@ -838,12 +817,6 @@ class Reflection:
                 else:
                     arr[dst] = FIELDS_BY_NAME[name].reflected(arr[src], self.sides,
                                                               self.longitudinal)
-
-    def fill_struct_row(self, rows: np.ndarray, src: int, dst: int) -> None:
-        """:meth:`fill_row` on a structured array of journal rows (fields ``<method>/<name>``,
-        :func:`lutmpi.table.journal.record_dtype`), on its bytes at once
-        (:func:`lutmpi.table.schema.row_reflection`; the same bits); other fields copied."""
-        row_reflection(rows.dtype, self.sides, self.longitudinal).apply(rows, src, dst)
 
 
 @dataclass(frozen=True)

@@ -94,12 +94,10 @@ class Field:
         solver is symmetric under both (``tests/unit/test_table_mirror.py``): to the bit in
         the first, to rounding (1e-14 relative) in the second."""
         swap, comps, negate = reflection_plan(self.name, sides, longitudinal)
-        v = np.array(value, dtype=self.dtype)
-        if swap:
-            v = v[::-1].copy()
+        v = np.array(value[::-1] if swap else value, dtype=self.dtype)   # a new array
         for c in comps:
-            v[..., c] = -v[..., c]
-        return -v if negate else v
+            np.negative(v[..., c], out=v[..., c])
+        return np.negative(v, out=v) if negate else v
 
     def empty(self, lead: tuple[int, ...]) -> np.ndarray:
         """An array of shape ``lead + suffix`` filled with :attr:`fill`."""

@@ -24,7 +24,15 @@ from lutmpi.table import journal
 from lutmpi.table import jumps as tj
 from lutmpi.table.compute import compute_points, default_solver, pose_to_record
 from lutmpi.table.grid import Grid
-from lutmpi.table.schema import FIELDS, FIELDS_BY_NAME, JUMP_FIELDS, D, J, limit_fields
+from lutmpi.table.schema import (
+    FIELDS,
+    FIELDS_BY_NAME,
+    JUMP_FIELDS,
+    D,
+    J,
+    limit_fields,
+    row_reflection,
+)
 
 pytestmark = pytest.mark.timeout(600)
 
@@ -276,7 +284,7 @@ def test_grid_plan_solves_one_point_per_orbit():
 
 
 def test_a_journal_row_reflected_on_its_bytes_is_every_field_reflected():
-    """The build's grid reflects a journal row at once on its bytes (``fill_struct_row``):
+    """The build's grid reflects a journal row at once on its bytes (``row_reflection``):
     the same bits as :meth:`Field.reflected` field by field (``fill_row``) for each reflection,
     NaN of either sign, signed zeros, integers; compute time 0 and the point index copied."""
     methods = ("load_centre", "reference")
@@ -300,7 +308,7 @@ def test_a_journal_row_reflected_on_its_bytes_is_every_field_reflected():
         want = rows.copy()
         g.fill_row({m: {f.name: want[f"{m}/{f.name}"] for f in FIELDS} for m in methods}, 0, 2)
         got = rows.copy()
-        g.fill_struct_row(got, 0, 2)
+        row_reflection(dtype, g.sides, g.longitudinal).apply(got, 0, 2)
         for name in dtype.names:
             if name == "point":
                 assert got[name][2] == 11
