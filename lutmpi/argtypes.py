@@ -41,5 +41,4 @@ def within(bound: float) -> Callable[[str], float]:
                                              f"got {text!r}")
         return v
 
-    check.__name__ = f"number in [-{bound:g}, {bound:g}]"
     return check

@@ -813,6 +813,7 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
             us = _jump_at(jy, up, down, j, p0, up[j, p0], w)
     ycs = np.full(4, y)
     slopes = np.ones(4)
+    unit = np.ones(4)
     lower_j, upper_j = lower, upper   # the outer columns that answer the quantities that jump
     cols = ((0, j - 1, pl, lower), (1, j, p0, True), (2, j + 1, p1, True), (3, j + 2, pu, upper))
     if warp:
@@ -867,13 +868,12 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     h00, h10, h01, h11 = 2 * w3 - 3 * w2 + 1, w3 - 2 * w2 + w, -2 * w3 + 3 * w2, w3 - w2
     g00, g10, g01, g11 = 6 * w2 - 6 * w, 3 * w2 - 4 * w + 1, -6 * w2 + 6 * w, 3 * w2 - 2 * w
     for c in range(q):
-        o = 4 if jumps[c] else 0       # the warped rows for the quantities that jump
+        # the quantities that jump: the warped rows, their y slopes times dy_c/dy
+        o, k = (4, slopes) if jumps[c] else (0, unit)
         a, b = tmp_v[1 + o, c], tmp_v[2 + o, c]
-        da, db = tmp_d[1 + o, c] * slopes[1], tmp_d[2 + o, c] * slopes[2]
+        da, db = tmp_d[1 + o, c] * k[1], tmp_d[2 + o, c] * k[2]
         v0, v3 = tmp_v[o, c], tmp_v[3 + o, c]
-        d0, d3 = tmp_d[o, c] * slopes[0], tmp_d[3 + o, c] * slopes[3]
-        if not jumps[c]:
-            da, db, d0, d3 = tmp_d[1, c], tmp_d[2, c], tmp_d[0, c], tmp_d[3, c]
+        d0, d3 = tmp_d[o, c] * k[0], tmp_d[3 + o, c] * k[3]
         if mode[c] == 2:
             out_v[c] = a if w < 0.5 else b
             out_dy[c] = 0.0

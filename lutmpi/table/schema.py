@@ -93,11 +93,13 @@ class Field:
         radii, curvatures, forces are each wheel's own. Both: the pose ``(-y, yaw)``. lutmpi's
         solver is symmetric under both (``tests/unit/test_table_mirror.py``): to the bit in
         the first, to rounding (1e-14 relative) in the second."""
-        swap, comps, negate = reflection_plan(self.name, sides, longitudinal)
-        v = np.array(value[::-1] if swap else value, dtype=self.dtype)   # a new array
+        swap, comps, negate = _reflection_plan(self.name, sides, longitudinal)
+        v = np.array(value, dtype=self.dtype)
+        if swap:
+            v = v[::-1].copy()
         for c in comps:
-            np.negative(v[..., c], out=v[..., c])
-        return np.negative(v, out=v) if negate else v
+            v[..., c] = -v[..., c]
+        return -v if negate else v
 
     def empty(self, lead: tuple[int, ...]) -> np.ndarray:
         """An array of shape ``lead + suffix`` filled with :attr:`fill`."""
@@ -105,7 +107,7 @@ class Field:
 
 
 @functools.cache
-def reflection_plan(name: str, sides: bool, longitudinal: bool
+def _reflection_plan(name: str, sides: bool, longitudinal: bool
                      ) -> tuple[bool, tuple[int, ...], bool]:
     """What :meth:`Field.reflected` does to the values of the field ``name``: reverse the
     per-wheel axis, the vector components whose sign changes, and whether the whole value's sign
@@ -175,7 +177,7 @@ def row_reflection(dtype: np.dtype, sides: bool, longitudinal: bool) -> RowRefle
         if name in TIMING_FIELDS:
             zero.append((off, off + sub.itemsize))
             continue
-        swap, comps, negate = reflection_plan(name, sides, longitudinal)
+        swap, comps, negate = _reflection_plan(name, sides, longitudinal)
         base, shape = sub.base, sub.shape
         size = base.itemsize
         src = np.arange(int(np.prod(shape, dtype=int))).reshape(shape)
