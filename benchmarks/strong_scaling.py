@@ -97,10 +97,12 @@ def identical(a: dict[str, np.ndarray], b: dict[str, np.ndarray]) -> bool:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("config")
-    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2],
+                    help="rank counts, run in the order given after the 1-rank base (largest "
+                         "first keeps it where a time limit cuts the run short)")
     ap.add_argument("--grid", type=int, nargs=2, metavar=("NY", "NYAW"))
     a = ap.parse_args()
-    ranks = sorted(set(a.ranks) | {1})
+    ranks = [1] + list(dict.fromkeys(n for n in a.ranks if n != 1))   # 1 first, then as given
     tmp = Path(tempfile.mkdtemp(prefix="lutmpi-scaling-"))
     config = derived_config(a.config, tuple(a.grid) if a.grid else None, tmp)
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}  cores {os.cpu_count()}  "

@@ -1,11 +1,14 @@
 """Plain two-column text / CSV profiles (``.csv``, ``.txt``, ``.dat``).
 
-One point per line, ``y z`` separated by blanks, a comma or a semicolon; further columns are
-ignored. Lines starting with ``#``, ``!`` or ``%`` are comments; one line of column names may
-precede the data. The points must already be in lutmpi's **normalized orientation**
-(:mod:`lutmpi.profiles.model`): wheels ``s`` from the tape circle positive to the field side and
-``z`` the radius increment; rails ``v`` positive to the field side and ``z`` up. Two optional
-comment directives::
+One point per line, ``y z`` separated by blanks, a comma or a semicolon. Lines starting with
+``#``, ``!`` or ``%`` are comments; one line of column names may precede the data. A file with
+more than two numeric columns (``x y z`` from a scanner, an index column, ...) is read only when
+that header names its ``y`` and ``z`` columns (``y``, ``y_mm``, ``y [mm]``, ``z``, ...): which
+two of three numbers are the profile cannot be guessed, and reading the first two of ``x y z``
+would give a wrong profile without an error. The points must already be in lutmpi's **normalized
+orientation** (:mod:`lutmpi.profiles.model`): wheels ``s`` from the tape circle positive to the
+field side and ``z`` the radius increment; rails ``v`` positive to the field side and ``z`` up.
+Two optional comment directives::
 
     # units: mm        (default; or m)
     # kind: wheel      (or rail; otherwise decided from the shape)
@@ -18,11 +21,29 @@ from __future__ import annotations
 import re
 
 from lutmpi.errors import ProfileError
-from lutmpi.profiles._raw import RawProfile, looks_numeric, parse_point, points_array
+from lutmpi.profiles._raw import (
+    _SPLIT,
+    RawProfile,
+    is_number,
+    looks_numeric,
+    parse_point,
+    points_array,
+)
 
 EXTENSIONS = (".csv", ".txt", ".dat")
 _DIRECTIVE = re.compile(r"^[#!%]\s*(units|kind)\s*[:=]\s*(\S+)", re.IGNORECASE)
 _UNITS = {"mm": 1.0, "m": 1000.0}
+# a column name: "y", "Y_mm", "z [mm]", "z(mm)" -> y / z
+_COLUMN = re.compile(r"^\s*([a-z]+)\s*(?:[_\[(].*)?$", re.IGNORECASE)
+
+
+def _named_columns(header: str) -> tuple[int, int] | None:
+    """The indices of the columns a header line names ``y`` and ``z``, or None."""
+    names = [m.group(1).lower() if (m := _COLUMN.match(x)) else ""
+             for x in _SPLIT.split(header.strip()) if x and x[0] not in "[("]  # "y [mm]"
+    if names.count("y") == 1 and names.count("z") == 1:
+        return names.index("y"), names.index("z")
+    return None
 
 
 def sniff(text: str) -> bool:
@@ -34,7 +55,7 @@ def parse(lines: list[str], path: str) -> RawProfile:
     """Read a plain two-column file into a :class:`RawProfile` (mm, normalized)."""
     scale, unit, unit_line, kind, kind_line = 1.0, "mm", None, None, None
     pts: list[tuple[float, float, int]] = []
-    header_seen = False
+    header_seen, cols = False, None           # cols: the header's (y, z) column indices
     for ln, text in enumerate(lines, start=1):
         t = text.strip()
         if not t:
@@ -57,8 +78,24 @@ def parse(lines: list[str], path: str) -> RawProfile:
             continue
         if not looks_numeric(t) and not pts and not header_seen:
             header_seen = True                # one line of column names
+            cols = _named_columns(t)
             continue
-        pts.append((*parse_point(t, path, ln), ln))
+        y, z = parse_point(t, path, ln)      # decimal commas, NaN, a missing number: refused
+        toks = [x for x in _SPLIT.split(t) if x]
+        if cols is not None and (len(toks) > 2 or max(cols) > 1):
+            if len(toks) <= max(cols):
+                raise ProfileError(f"{len(toks)} values, but the header names column "
+                                   f"{max(cols) + 1} as {'yz'[cols.index(max(cols))]!r}: "
+                                   f"{t!r}", path=path, line=ln)
+            pts.append((*parse_point(f"{toks[cols[0]]} {toks[cols[1]]}", path, ln), ln))
+            continue
+        if len(toks) > 2 and is_number(toks[2]):
+            raise ProfileError(
+                f"{sum(map(is_number, toks))} numeric columns in {t!r}, expected two (y z): "
+                "which two are the profile is ambiguous (x y z? an index column?); name the "
+                "columns in a header line before the data, e.g. 'x y z', or keep only y and z",
+                path=path, line=ln)
+        pts.append((y, z, ln))
     y, z, ln_arr = points_array(pts)
     return RawProfile(y_mm=y * scale, z_mm=z * scale, lines=ln_arr, kind=kind,
                       kind_source=f"'# kind: {kind}' (line {kind_line})" if kind else "",

@@ -228,6 +228,24 @@ def test_plain_csv_roundtrip(tmp_path: Path):
     assert np.abs(p.z_at(s) - s1002().z_at(s)).max() < 1e-5
 
 
+def test_plain_third_column_needs_named_columns(tmp_path: Path):
+    """``x y z`` from a scanner: the first two numbers are not the profile. Without a header
+    naming y and z the file is refused at its first data line; with one, y and z are read from
+    the named columns (units in brackets allowed) and the profile equals the two-column file."""
+    body = _csv_wheel_lines()[1:]
+    three = [f"{i * 0.1:.1f},{ln}" for i, ln in enumerate(body)]        # x, y, z
+    _raises_at(_write(tmp_path, "xyz.csv", three), 1, "3 numeric columns.*expected two")
+    ref = read_profile(_write(tmp_path, "yz.csv", _csv_wheel_lines()))
+    for header in ("x,y,z", "x [mm], y [mm], z [mm]", "X_mm;Y_mm;Z_mm"):
+        sep = ";" if ";" in header else ","
+        lines = [header] + [ln.replace(",", sep) for ln in three]
+        p = read_profile(_write(tmp_path, "named.csv", lines))
+        assert np.array_equal(p.y, ref.y) and np.array_equal(p.z, ref.z), header
+    # named columns, but a line too short for them: refused at that line, not read as y z
+    bad = ["x,y,z"] + three[:5] + ["0.5,1.0"] + three[5:]
+    _raises_at(_write(tmp_path, "short.csv", bad), 7, "2 values, but the header names column 3")
+
+
 @pytest.mark.parametrize("lines", [[], ["# nothing"], ["y,z"], ["1,2", "3,4"]])
 def test_no_points(tmp_path: Path, lines: list[str]):
     _raises_at(_write(tmp_path, "empty.csv", lines), None, "no profile points")
