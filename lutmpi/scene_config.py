@@ -58,7 +58,10 @@ def scene_from_config(cfg: Config) -> Scene:
         inc[name] = rc.inclination_rad
         depth[name] = (rc.gauge_depth_mm if rc.gauge_depth_mm is not None
                        else cfg.track.gauge_depth_mm) * 1e-3
-        gv[name] = _gauge_v(rc.gauge_point, rails[name])
+        gv[name] = _gauge_v(rc.gauge_point, rails[name],
+                            f"rail.{name}.gauge_point"
+                            if getattr(cfg.rail, name).gauge_point is not None
+                            else "rail.gauge_point")
     return Scene.from_profiles(
         wheels, rails, r0=r0, tape_half_distance=d, inclination=inc,
         gauge=cfg.track.gauge_mm * 1e-3, gauge_depth=depth, gauge_v=gv,
@@ -80,8 +83,11 @@ def scene_from_config(cfg: Config) -> Scene:
 END_TOL_M = 1e-5
 
 
-def _gauge_v(point: str | float, rail: Profile) -> float | None:
-    """The rail profile's lateral coordinate of an explicit gauge point (m), or None."""
+def _gauge_v(point: str | float, rail: Profile, key: str = "rail.gauge_point") -> float | None:
+    """The rail profile's lateral coordinate of an explicit gauge point (m), or None.
+
+    ``key`` names the config key in errors (``rail.gauge_point`` or ``rail.<side>.gauge_point``).
+    """
     if point == "depth":
         return None
     if point in ("first", "last"):
@@ -89,12 +95,16 @@ def _gauge_v(point: str | float, rail: Profile) -> float | None:
             raise ConfigError(f"gauge_point = {point!r} names a point of a rail profile file; "
                               f"the rail {rail.name} is not read from a file (a generator): give "
                               "a depth below the rail top (gauge_depth_mm) or a lateral "
-                              "coordinate in mm", key="rail.gauge_point")
+                              "coordinate in mm", key=key)
         v = rail.meta[f"file_{point}_point_mm"][0] * 1e-3
         if rail.y_min - END_TOL_M <= v <= rail.y_max + END_TOL_M:
             v = min(max(v, rail.y_min), rail.y_max)
         return v
-    return float(point) * 1e-3
+    v = float(point) * 1e-3
+    if not rail.y_min <= v <= rail.y_max:
+        raise ConfigError(f"gauge_point = {point!r} mm is outside the rail profile {rail.name} "
+                          f"(v = {rail.y_min * 1e3:.3f} .. {rail.y_max * 1e3:.3f} mm)", key=key)
+    return v
 
 
 def side_profiles(cfg: Config) -> tuple[dict[str, Profile], dict[str, Profile]]:

@@ -93,6 +93,21 @@ def test_gauge_point_of_a_file_on_a_generator_rail_names_the_key(tmp_path, capsy
     assert "rail.gauge_point" in err and "generator" in err and "Traceback" not in err
 
 
+@pytest.mark.parametrize(("rail", "key"), [
+    ('gauge_point = 120.0\n', "[rail.gauge_point]"),
+    ('[rail.left]\ngauge_point = "first"\n', "[rail.left.gauge_point]"),
+    ('[rail.right]\ngauge_point = -500\n', "[rail.right.gauge_point]")])
+def test_a_bad_gauge_point_names_its_own_key(tmp_path, capsys, rail, key):
+    """A gauge point the rail cannot have (a file's end on a generated rail, a lateral
+    coordinate off the profile) names the key that set it, the side's own where it is one."""
+    cfg = tmp_path / "g.toml"
+    cfg.write_text('[wheel]\ngenerator = "S1002"\n[rail]\ngenerator = "UIC60"\n' + rail
+                   + '[grid]\ny_mm = [-2.0, 2.0, 3]\nyaw_rad = [0.0, 0.0, 1]\n')
+    assert main(["solve", str(cfg), "--pose", "0", "0"]) == 1
+    err = capsys.readouterr().err
+    assert key in err and "Traceback" not in err, err
+
+
 def test_a_zero_vertical_load_is_a_config_error(tmp_path):
     cfg = tmp_path / "z.toml"
     cfg.write_text('[wheel]\ngenerator = "S1002"\n[rail]\ngenerator = "UIC60"\n'
