@@ -167,7 +167,18 @@ def read_attrs(path: str | os.PathLike[str]) -> dict[str, Any]:
         with h5py.File(path, "r") as f:
             return {k: _plain(v) for k, v in f.attrs.items()}
     except OSError as exc:
-        raise TableError(f"{path}: not a readable HDF5 file ({exc})") from exc
+        raise _open_error(path, exc) from exc
+
+
+def _open_error(path: str | os.PathLike[str], exc: OSError) -> TableError:
+    """The error for a file h5py cannot open: a file another process holds (HDF5's lock: a
+    build still writing it) is told apart from one that is not HDF5 at all."""
+    if "lock" in str(exc).lower():
+        what = ("a build's unfinished output" if str(path).endswith(".partial")
+                else "open for writing")
+        return TableError(f"{path}: {what}, locked by another process (a build still running?): "
+                          f"wait for it to end, or read a copy of the file ({exc})")
+    return TableError(f"{path}: not a readable HDF5 file ({exc})")
 
 
 def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -190,7 +201,7 @@ def read_table(path: str | os.PathLike[str]) -> dict[str, Any]:
     try:
         f = h5py.File(path, "r")
     except OSError as exc:
-        raise TableError(f"{path}: not a readable HDF5 file ({exc})") from exc
+        raise _open_error(path, exc) from exc
     try:
         with f:
             return _read_open_table(f, path)

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import shutil
+import subprocess
+import sys
 
 import h5py
 import numpy as np
@@ -94,6 +97,27 @@ def test_reader_refuses_newer_schema_incomplete_and_missing(tmp_path, table):
         Table.open(newer)
     with pytest.raises(TableError, match="no such table"):
         Table.open(tmp_path / "nope.h5")
+
+
+def test_a_table_another_process_holds_open_is_named_as_locked(tmp_path, table):
+    """A second process has the file open for writing (as a running build has its
+    ``.partial``): reading it says so and what to do, not "not a readable HDF5 file"."""
+    held = tmp_path / "t.h5.partial"
+    shutil.copy(table.path, held)
+    code = ("import h5py, sys, time\nf = h5py.File(sys.argv[1], 'r+')\n"
+            "print('open', flush=True)\ntime.sleep(60)\n")
+    env = {k: v for k, v in os.environ.items() if k != "HDF5_USE_FILE_LOCKING"}
+    with subprocess.Popen([sys.executable, "-c", code, str(held)], stdout=subprocess.PIPE,
+                          text=True, env=env) as proc:
+        try:
+            assert proc.stdout.readline().strip() == "open"
+            with pytest.raises(TableError, match="unfinished output, locked by another "
+                                                 "process") as info:
+                Table.open(held)
+            assert str(held) in str(info.value)
+        finally:
+            proc.kill()
+    assert Table.open(held).path is not None          # readable once the other process ended
 
 
 def test_differences_detects_a_changed_value(tmp_path, table):
