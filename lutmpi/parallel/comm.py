@@ -45,5 +45,13 @@ def root_decides(comm: Any, fn: Callable[[], Any]) -> Any:
             error = exc
     value, error = comm.bcast((value, error), root=0)
     if error is not None:
+        if comm.rank != 0:     # this rank's copy of rank 0's error: see raised_on_root
+            error.lutmpi_raised_on_root = True
         raise error
     return value
+
+
+def raised_on_root(exc: BaseException) -> bool:
+    """Whether ``exc`` is rank 0's exception raised again on this (another) rank by
+    :func:`root_decides`: rank 0 raises the same one and can report it for every rank."""
+    return bool(getattr(exc, "lutmpi_raised_on_root", False))

@@ -14,8 +14,10 @@ Flow (every rank runs it; ``comm=None`` means one process):
 5. The writer writes the table collectively, sets ``complete`` and renames it into place.
 
 Any exception after step 2 on any rank is logged with the rank (and the grid point when a solve
-raised) and ends the whole job with ``comm.Abort(1)``: no rank is left in a collective call. A
-SIGINT/SIGTERM ends the build with a message saying the journal keeps what was computed.
+raised) and ends the whole job with ``comm.Abort(1)``: no rank is left in a collective call; an
+error rank 0 decided for every rank (``root_decides``) is logged by rank 0 alone. A
+SIGINT/SIGTERM ends the build with a message saying the journal keeps what was computed (from
+rank 0; the other ranks say so only if rank 0 does not end the job, :data:`ROOT_REPORTS_S`).
 The table never depends on the number of ranks: every point is solved by the same pure code, and
 where it was solved does not enter the file.
 """
@@ -44,7 +46,7 @@ from lutmpi.config.model import ALL_METHODS, Config
 from lutmpi.equilibrium.result import STATUS
 from lutmpi.errors import BuildInterruptedError, ConfigError, LutmpiError
 from lutmpi.parallel import partition
-from lutmpi.parallel.comm import SelfComm, root_decides
+from lutmpi.parallel.comm import SelfComm, raised_on_root, root_decides
 from lutmpi.parallel.jumps_step import add_jumps, mirror_of
 from lutmpi.parallel.workqueue import make_counter
 from lutmpi.parallel.writer import TableWriter
@@ -63,6 +65,11 @@ log = logging.getLogger(__name__)
 #: a static split hands a rank its points in at most this many batches (progress per batch)
 N_STEPS = 200
 PROGRESS_EVERY_S = 10.0
+#: a rank other than 0 whose error rank 0 has too (raised by root_decides on every rank; a
+#: signal, which mpirun sends every rank and an abort sends the ranks it kills) waits this long
+#: for rank 0 to report it and abort the job before it reports and aborts itself: one report of
+#: one failure, not one per rank
+ROOT_REPORTS_S = 5.0
 
 
 @dataclass
@@ -214,6 +221,8 @@ def _prepare(writer: TableWriter, config: Config, factory: Callable[[Config], An
 
 
 def _abort(comm: Any, exc: BaseException) -> None:
+    if comm.rank != 0 and (raised_on_root(exc) or isinstance(exc, BuildInterruptedError)):
+        time.sleep(ROOT_REPORTS_S)   # ended by rank 0's Abort; speaks only if that never came
     notes = "; ".join(getattr(exc, "__notes__", []))
     if isinstance(exc, BuildInterruptedError):
         log.critical("rank %d/%d %s -- ending the job; the journal keeps the points computed "

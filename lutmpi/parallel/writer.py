@@ -20,10 +20,17 @@ Protocol (the runner calls, every rank):
 2. :meth:`begin` (collective): create or recreate the partial file, a fresh journal if not resuming,
    open this rank's journal file, and load this rank's share of the verified records.
 3. :meth:`claim` and :meth:`commit` (no communication): the rows of this rank's store, filled in
-   place by the solves and journaled as they are.
-4. :meth:`finish` (collective): sync the journals, send every record to the rank owning its rows
-   (one ``alltoall``), write the row blocks, set ``complete``, rename, drop the journal, unlock.
+   place by the solves and journaled as they are. Rank 0 also looks, once per sync interval, that
+   the output folder and ``OUT.partial`` are still there (:meth:`check_files`): appends to a
+   journal whose folder was removed still succeed, so without the look a removed folder would
+   show only at the end.
+4. :meth:`finish` (collective): sync the journals, check the files again (rank 0 decides), send
+   every record to the rank owning its rows (one ``alltoall``), write the row blocks, set
+   ``complete``, rename, drop the journal, unlock.
 5. :meth:`close` (every rank, always): release the lock and files if anything failed.
+
+A file operation that fails after :meth:`prepare` raises :class:`~lutmpi.errors.TableError` naming
+the file and the reason (the runner reports it in one line and ends the job).
 """
 
 from __future__ import annotations
@@ -31,6 +38,7 @@ from __future__ import annotations
 import logging
 import os
 import shutil
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -110,6 +118,8 @@ class TableWriter:
         self._reflections: dict[Any, RowReflection] = {}  # Reflection -> its row_reflection
         self._lock = OutputLock(self.out)
         self._journal: journal.JournalWriter | None = None
+        self._partial_id: tuple[int, int] | None = None   # (st_dev, st_ino) made by begin
+        self._next_check = 0.0                              # rank 0's next check_files, monotonic
 
     # -- 1. rank 0 decides ------------------------------------------------------------------
     def prepare(self, *, force: bool, resume: bool) -> Plan:
@@ -188,12 +198,22 @@ class TableWriter:
         def fresh_journal() -> None:
             if not plan.resume:
                 journal.remove(self.journal_dir)
-                journal.create(self.journal_dir, journal.make_header(
-                    self.inputs, self.methods, self.fields, self.grid.shape))
+                try:
+                    journal.create(self.journal_dir, journal.make_header(
+                        self.inputs, self.methods, self.fields, self.grid.shape))
+                except OSError as exc:
+                    raise self._file_error(f"creating the journal {self.journal_dir}",
+                                           exc) from exc
 
         root_decides(comm, fresh_journal)
-        h5io.create_partial(self.partial, self.io, comm.rank, self.grid, self.methods,
-                            self.fields, attrs)
+        try:
+            h5io.create_partial(self.partial, self.io, comm.rank, self.grid, self.methods,
+                                self.fields, attrs)
+            st = os.stat(self.partial)
+        except OSError as exc:
+            raise self._file_error(f"creating {self.partial}", exc) from exc
+        self._partial_id = (st.st_dev, st.st_ino)
+        self._next_check = time.monotonic() + self.sync_interval_s
         self._journal = journal.JournalWriter(
             self.journal_dir, comm.rank, plan.run_id, self.dtype, self.inputs["sha256"],
             self.sync_interval_s)
@@ -244,6 +264,54 @@ class TableWriter:
         rows["point"] = points
         self._journal.append_rows(rows)
         self._store[-1] = (chunk, used + len(points))
+        # one rank looks (the folder is one for all): a removed folder is reported once
+        if self.comm.rank == 0 and time.monotonic() >= self._next_check:
+            self._next_check = time.monotonic() + self.sync_interval_s
+            self.check_files()
+
+    def check_files(self) -> None:
+        """Raise :class:`~lutmpi.errors.TableError` when the output folder or ``OUT.partial``
+        was removed or replaced since :meth:`begin` (two ``stat`` calls; any rank)."""
+        why = self._removed()
+        if why is not None:
+            raise TableError(why)
+
+    def _removed(self) -> str | None:
+        """The message for this build's folder or partial file removed (or replaced) since
+        :meth:`begin`, or ``None`` while they are in place."""
+        folder = self.out.parent
+        if not folder.is_dir():
+            return (f"output folder {folder} was removed during the build, with the unfinished "
+                    f"table {self.partial.name} and the journal {self.journal_dir.name}/: "
+                    f"nothing was written to {self.out}; rerun the build")
+        if self._partial_id is None:
+            return None
+        try:
+            st = os.stat(self.partial)
+        except FileNotFoundError:
+            st = None
+        except OSError:        # not a removal; the operation that needs the file says what
+            return None
+        if st is not None and (st.st_dev, st.st_ino) == self._partial_id:
+            return None
+        return (f"the unfinished table {self.partial} was "
+                f"{'removed' if st is None else 'replaced'} during the build: nothing was "
+                f"written to {self.out}; {self._what_now()}")
+
+    def _file_error(self, what: str, exc: OSError) -> TableError:
+        """The error for a failed file operation ``what`` of this build: a removed folder or
+        partial file said so, anything else with the reason."""
+        why = self._removed()
+        if why is not None:
+            return TableError(why)
+        return TableError(f"{what} failed: {exc.strerror or exc}; nothing was written to "
+                          f"{self.out}; {self._what_now()}")
+
+    def _what_now(self) -> str:
+        if self.journal_dir.is_dir():
+            return (f"the points computed so far are kept in {self.journal_dir}: rerun with "
+                    "--resume")
+        return f"the journal {self.journal_dir} is gone: rerun the build"
 
     @property
     def journal_seconds(self) -> float:
@@ -259,22 +327,30 @@ class TableWriter:
         if self._journal is not None:
             self._journal.sync()      # every point is on disk before the table is written
             self._journal.close()
+        root_decides(self.comm, self.check_files)   # one report, every rank raises it
         self._exchange()
-        f = self.io.open(self.partial, "r+")
-        h5io.write_blocks(f, self.io, self.row_start, self.blocks)
-        if after_grid is not None:
-            after_grid(f, self.io, self.row_start, self.blocks)
-        h5io.finalize(f, run_attrs)
+        try:
+            f = self.io.open(self.partial, "r+")
+            h5io.write_blocks(f, self.io, self.row_start, self.blocks)
+            if after_grid is not None:
+                after_grid(f, self.io, self.row_start, self.blocks)
+            h5io.finalize(f, run_attrs)
+        except OSError as exc:
+            raise self._file_error(f"writing {self.partial}", exc) from exc
         self.comm.Barrier()
         root_decides(self.comm, self._publish)
 
     def _publish(self) -> None:
-        fd = os.open(self.partial, os.O_RDONLY)
+        self.check_files()      # the jump step may have run long after the last look
         try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        os.replace(self.partial, self.out)
+            fd = os.open(self.partial, os.O_RDONLY)
+            try:
+                os.fsync(fd)
+            finally:
+                os.close(fd)
+            os.replace(self.partial, self.out)
+        except OSError as exc:
+            raise self._file_error(f"renaming {self.partial} to {self.out}", exc) from exc
         journal.fsync_dir(self.out.parent if str(self.out.parent) else Path("."))
         try:
             journal.remove(self.journal_dir)

@@ -282,3 +282,34 @@ def test_signal_ends_build_with_a_message_and_the_partial_resumes(reference, tmp
     assert res.returncode == 0, res.stderr
     assert _counts(res.stderr)[1] >= 4
     assert differences(ref, out) == []
+
+
+# -- the output folder removed while the build runs -------------------------------------------
+
+@pytest.mark.parametrize(("ranks", "interval"), [(2, "0"), (2, "10"), (1, "0")])
+def test_output_folder_removed_mid_build_ends_with_one_line(reference, tmp_path, ranks, interval):
+    """``rm -rf`` of the output folder mid-build: exit 1 with one line naming the folder, no
+    traceback, nothing left that claims to be complete. ``--checkpoint-interval 0``: rank 0
+    sees it at its next point; 10 s (the default, longer than this build): the build sees it
+    when it goes to write the table, and rank 0 alone reports it."""
+    cfg, _ = reference
+    folder = tmp_path / "out"
+    folder.mkdir()
+    out = folder / "t.h5"
+    proc = start_build(cfg, out, ranks, "--checkpoint-interval", interval, LUTMPI_FAULT=SLOW)
+    _wait_for_points(proc, out, 4)
+    shutil.rmtree(folder)
+    t_removed = time.monotonic()
+    try:
+        _, stderr = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail("the build did not end within 60 s of its output folder being removed")
+    elapsed = time.monotonic() - t_removed
+    print(f"folder removed: ended {elapsed:.1f} s later; stderr tail:\n{stderr[-1500:]}")
+    assert proc.returncode == 1, stderr
+    assert "Traceback" not in stderr, stderr
+    said = [line for line in stderr.splitlines() if "removed during the build" in line]
+    assert len(said) == 1 and f"output folder {folder} was removed" in said[0], stderr
+    assert elapsed < (10 if interval == "0" else 30), elapsed   # measured: 1.2 s, 3 s
+    assert not folder.exists()              # nothing written anywhere, nothing complete
