@@ -239,8 +239,10 @@ def _pack(obj: Any) -> tuple[Any, dict[str, np.ndarray]]:
 
 
 def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
-    """The object :func:`_pack` packed (each record's arrays are rows of the columns)."""
-    return _map_records(skeleton, lambda row: {n: c[row] for n, c in columns.items()})
+    """The object :func:`_pack` packed (each record's arrays are rows of the columns: a
+    :class:`~lutmpi.table.jumps.ColumnRecord`, which reflects in columns)."""
+    images: dict[tuple[bool, bool], Any] = {}
+    return _map_records(skeleton, lambda row: _jumps.ColumnRecord.at(columns, row, images))
 
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,

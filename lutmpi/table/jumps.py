@@ -128,6 +128,38 @@ class MeshResolution:
     centroid: bool
 
 Record = dict[str, np.ndarray]
+
+
+class ColumnRecord(dict):
+    """A pose record that is row ``row`` of the stacked ``columns`` (name -> array, one row a
+    record), as records arrive from other ranks (:func:`lutmpi.parallel.jumps_step._unpack`).
+    A plain dict of those rows to every reader; :meth:`Reflection.record` reflects it by
+    reflecting its columns once for all their rows (:meth:`Field.reflected_column`) instead
+    of one record at a time: a mirrored jump step reflects ~3 records per record solved, on
+    every rank (BENCHMARKS.md, 2026-11-27, sixth part)."""
+
+    __slots__ = ("columns", "row", "images")
+
+    @classmethod
+    def at(cls, columns: dict[str, np.ndarray], row: int, images: dict[tuple[bool, bool], Any]
+           ) -> ColumnRecord:
+        """Row ``row`` of ``columns``; ``images``: the columns' reflections made so far
+        (shared by the rows of these columns, filled by :meth:`reflected`)."""
+        rec = cls({n: c[row] for n, c in columns.items()})
+        rec.columns, rec.row, rec.images = columns, row, images
+        return rec
+
+    def reflected(self, sides: bool, longitudinal: bool) -> ColumnRecord:
+        """This record at the reflected pose (:meth:`Reflection.record`)."""
+        key = (sides, longitudinal)
+        image = self.images.get(key)
+        if image is None:          # the columns reflected once, shared by all their rows
+            image = self.images[key] = ({
+                n: FIELDS_BY_NAME[n].reflected_column(c, sides, longitudinal)
+                for n, c in self.columns.items()}, {})
+        return ColumnRecord.at(image[0], self.row, image[1])
+
+
 PoseSolver = Callable[[float, float], Record]
 
 
@@ -803,7 +835,10 @@ class Reflection:
         return self.sides != self.longitudinal
 
     def record(self, rec: Record) -> Record:
-        """A pose record at the reflected pose (:meth:`lutmpi.table.schema.Field.reflected`)."""
+        """A pose record at the reflected pose (:meth:`lutmpi.table.schema.Field.reflected`;
+        a :class:`ColumnRecord` through its columns, the same values)."""
+        if isinstance(rec, ColumnRecord):
+            return rec.reflected(self.sides, self.longitudinal)
         return {name: FIELDS_BY_NAME[name].reflected(v, self.sides, self.longitudinal)
                 for name, v in rec.items()}
 

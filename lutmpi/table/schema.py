@@ -101,6 +101,18 @@ class Field:
             v[..., c] = -v[..., c]
         return -v if negate else v
 
+    def reflected_column(self, column: np.ndarray, sides: bool, longitudinal: bool
+                         ) -> np.ndarray:
+        """:meth:`reflected` of every value of ``column`` (shape ``(n,) + suffix``: ``n``
+        values of this field stacked) at once; the same arithmetic, so the same bits."""
+        swap, comps, negate = _reflection_plan(self.name, sides, longitudinal)
+        v = np.array(column, dtype=self.dtype)
+        if swap:
+            v = v[:, ::-1].copy()
+        for c in comps:
+            v[..., c] = -v[..., c]
+        return -v if negate else v
+
     def empty(self, lead: tuple[int, ...]) -> np.ndarray:
         """An array of shape ``lead + suffix`` filled with :attr:`fill`."""
         return np.full(tuple(lead) + self.suffix, self.fill, dtype=self.dtype)

@@ -317,6 +317,43 @@ def test_a_journal_row_reflected_on_its_bytes_is_every_field_reflected():
         assert got[1].tobytes() == rows[1].tobytes() and got["load_centre/compute_time"][2] == 0
 
 
+def test_records_from_other_ranks_reflect_in_columns_to_the_same_bits():
+    """Records that arrive from other ranks (``jumps_step._unpack``: rows of stacked columns)
+    reflect by their columns, once for all rows: the same bits and dtypes as
+    :meth:`Field.reflected` record by record, for each reflection, NaN of either sign and
+    signed zeros; and as plain dicts to every reader."""
+    from lutmpi.parallel.jumps_step import _pack, _unpack
+
+    rng = np.random.default_rng(11)
+    recs = []
+    for _ in range(9):
+        rec = {}
+        for f in LFIELDS:
+            if np.dtype(f.dtype).kind == "f":
+                v = rng.normal(size=f.suffix)
+                pick = rng.random(f.suffix)
+                v[pick < 0.4] = 0.0
+                v[pick < 0.3] = -0.0
+                v[pick < 0.2] = np.nan
+                v[pick < 0.1] = -np.nan
+            else:
+                v = rng.integers(-3, 100, size=f.suffix)
+            rec[f.name] = np.asarray(v, dtype=f.dtype)
+        recs.append(rec)
+    got = _unpack(*_pack(recs))
+    for g in (SIDES_, LONG, BOTH):
+        for plain, col in zip(recs, got, strict=True):
+            assert isinstance(col, tj.ColumnRecord) and dict(col).keys() == plain.keys()
+            want, have = g.record(plain), g.record(col)
+            assert not isinstance(want, tj.ColumnRecord)
+            for name in plain:
+                a, b = np.asarray(want[name]), np.asarray(have[name])
+                assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), (g, name)
+            back = g.record(have)        # a reflection is an involution, in columns too
+            assert all(np.asarray(back[n]).tobytes() == np.asarray(plain[n]).tobytes()
+                       for n in plain)
+
+
 def test_a_mirrored_grid_is_the_direct_grid(tmp_path, monkeypatch):
     """A build's grid on a symmetric pair solves a quarter of its points (corner orbits of
     four; the middle row and column pair up) and fills the rest by reflection: every dataset
