@@ -811,43 +811,67 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
             ls = _jump_at(jy, up, down, j, p0 - 1, up[j, p0 - 1], w)
         if p0 < nj[j]:
             us = _jump_at(jy, up, down, j, p0, up[j, p0], w)
-    ycs = np.full(4, y)
-    slopes = np.ones(4)
-    unit = np.ones(4)
+    # where each column j - 1 .. j + 2 is read for the quantities that jump, and dy_c/dy
+    # (scalars, not arrays: this runs once per lookup)
+    yc0, yc1, yc2, yc3 = y, y, y, y
+    k0, k1, k2, k3 = 1.0, 1.0, 1.0, 1.0
     lower_j, upper_j = lower, upper   # the outer columns that answer the quantities that jump
-    cols = ((0, j - 1, pl, lower), (1, j, p0, True), (2, j + 1, p1, True), (3, j + 2, pu, upper))
     if warp:
-        for r, c, pc, on in cols:
-            if on:
-                lc, uc = _bound(jy, nj, c, pc)
-                ycs[r], slopes[r], ok = _warp(y, ls, lc, us, uc, WARP_STEPS * h_y)
-                if not ok and r in (1, 2):
-                    warp = False      # the two columns are read alike, or both at y
-                elif not ok and r == 0:
-                    lower_j = False   # an outer column that cannot be read alike gives no
-                elif not ok:          # slope to the quantities that jump
-                    upper_j = False
-    if not warp:
-        ycs[:] = y
-        slopes[:] = 1.0
+        for r in range(4):
+            c = j - 1 + r
+            pc = pl if r == 0 else (p0 if r == 1 else (p1 if r == 2 else pu))
+            if not (lower if r == 0 else (upper if r == 3 else True)):
+                continue
+            lc, uc = _bound(jy, nj, c, pc)
+            yc, kc, ok = _warp(y, ls, lc, us, uc, WARP_STEPS * h_y)
+            if r == 0:
+                yc0, k0 = yc, kc
+            elif r == 1:
+                yc1, k1 = yc, kc
+            elif r == 2:
+                yc2, k2 = yc, kc
+            else:
+                yc3, k3 = yc, kc
+            if not ok and r in (1, 2):
+                warp = False      # the two columns are read alike, or both at y
+            elif not ok and r == 0:
+                lower_j = False   # an outer column that cannot be read alike gives no
+            elif not ok:          # slope to the quantities that jump
+                upper_j = False
+    if warp and (yc0 == y and yc1 == y and yc2 == y and yc3 == y and k0 == 1.0 and k1 == 1.0
+                 and k2 == 1.0 and k3 == 1.0 and lower_j == lower and upper_j == upper):
+        warp = False   # every column read at y after all (away from the jumps): the rows at y
+    if not warp:       # are the same evaluations, to the bit
+        yc0, yc1, yc2, yc3 = y, y, y, y
+        k0, k1, k2, k3 = 1.0, 1.0, 1.0, 1.0
         lower_j, upper_j = lower, upper
-    for r, c, pc, on in cols:
-        if on and r in (0, 3):
-            _piece_eval(ky, kv, kd, mode, c, pstart[c, pc], pstart[c, pc + 1], y, 1.0,
-                        tmp_v[r], tmp_d[r], False)
-        if on and warp:
-            _piece_eval(ky, kv, kd, mode, c, pstart[c, pc], pstart[c, pc + 1], ycs[r], 1.0,
-                        tmp_v[r + 4], tmp_d[r + 4], False)
-        elif on:
-            tmp_v[r + 4, :] = tmp_v[r, :]
-            tmp_d[r + 4, :] = tmp_d[r, :]
+    # the rows the quantities that jump read: 4-7 where they are read apart from y, else the
+    # same rows as the others (0-3)
+    ow = 4 if warp else 0
+    if lower:
+        _piece_eval(ky, kv, kd, mode, j - 1, pstart[j - 1, pl], pstart[j - 1, pl + 1], y, 1.0,
+                    tmp_v[0], tmp_d[0], False)
+    if upper:
+        _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, pu], pstart[j + 2, pu + 1], y, 1.0,
+                    tmp_v[3], tmp_d[3], False)
+    if warp:
+        if lower:
+            _piece_eval(ky, kv, kd, mode, j - 1, pstart[j - 1, pl], pstart[j - 1, pl + 1], yc0,
+                        1.0, tmp_v[4], tmp_d[4], False)
+        _piece_eval(ky, kv, kd, mode, j, pstart[j, p0], pstart[j, p0 + 1], yc1, 1.0,
+                    tmp_v[5], tmp_d[5], False)
+        _piece_eval(ky, kv, kd, mode, j + 1, pstart[j + 1, p1], pstart[j + 1, p1 + 1], yc2, 1.0,
+                    tmp_v[6], tmp_d[6], False)
+        if upper:
+            _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, pu], pstart[j + 2, pu + 1], yc3,
+                        1.0, tmp_v[7], tmp_d[7], False)
     # a column whose piece would be extended far beyond its end knots (its jump moved farther
     # than the grid resolves between the columns) does not answer: the other column alone
     only = -1
     lim = EXTEND_STEPS * h_y
     if w > 0.0 and w < 1.0:
-        e0 = _beyond(ky, pstart, j, p0, ycs[1])
-        e1 = _beyond(ky, pstart, j + 1, p1, ycs[2])
+        e0 = _beyond(ky, pstart, j, p0, yc1)
+        e1 = _beyond(ky, pstart, j + 1, p1, yc2)
         if e0 > lim and e1 <= lim:
             only = 2
         elif e1 > lim and e0 <= lim:
@@ -860,8 +884,8 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     # (on a column too: its yaw slope is the cubic's, the same from either cell)
     # (an outer column whose piece would be extended far to reach the query gives no slope to
     # the quantities that jump)
-    lo_far = lower and _beyond(ky, pstart, j - 1, pl, ycs[0]) > lim
-    up_far = upper and _beyond(ky, pstart, j + 2, pu, ycs[3]) > lim
+    lo_far = lower and _beyond(ky, pstart, j - 1, pl, yc0) > lim
+    up_far = upper and _beyond(ky, pstart, j + 2, pu, yc3) > lim
     step = yaw_axis[j + 1] - yaw_axis[j]
     w2 = w * w
     w3 = w2 * w
@@ -869,11 +893,14 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     g00, g10, g01, g11 = 6 * w2 - 6 * w, 3 * w2 - 4 * w + 1, -6 * w2 + 6 * w, 3 * w2 - 2 * w
     for c in range(q):
         # the quantities that jump: the warped rows, their y slopes times dy_c/dy
-        o, k = (4, slopes) if jumps[c] else (0, unit)
+        if jumps[c]:
+            o, s0, s1, s2, s3 = ow, k0, k1, k2, k3
+        else:
+            o, s0, s1, s2, s3 = 0, 1.0, 1.0, 1.0, 1.0
         a, b = tmp_v[1 + o, c], tmp_v[2 + o, c]
-        da, db = tmp_d[1 + o, c] * k[1], tmp_d[2 + o, c] * k[2]
+        da, db = tmp_d[1 + o, c] * s1, tmp_d[2 + o, c] * s2
         v0, v3 = tmp_v[o, c], tmp_v[3 + o, c]
-        d0, d3 = tmp_d[o, c] * k[0], tmp_d[3 + o, c] * k[3]
+        d0, d3 = tmp_d[o, c] * s0, tmp_d[3 + o, c] * s3
         if mode[c] == 2:
             out_v[c] = a if w < 0.5 else b
             out_dy[c] = 0.0
@@ -908,8 +935,8 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
             out_dy[c] = h00 * da + h10 * sa + h01 * db + h11 * sb
         out_dw[c] = (g00 * a + g10 * ma + g01 * b + g11 * mb) / step
         if only > 0 and jumps[c]:
-            out_v[c] = tmp_v[only + 4, c]
-            out_dy[c] = tmp_d[only + 4, c] * slopes[only]
+            out_v[c] = tmp_v[only + ow, c]
+            out_dy[c] = tmp_d[only + ow, c] * (k1 if only == 1 else k2)
             out_dw[c] = 0.0
     return flags, p, dist
 
