@@ -199,9 +199,10 @@ def _share(comm: Any, items: list[Any], work: Any, split: str = "dynamic") -> li
     else:
         done = [(int(k), work(items[k]))
                 for k in partition.split(len(items), comm.size, comm.rank, split)]
-    if comm.size > 1:
-        parts = comm.bcast(comm.gather(_pack(done), root=0), root=0)
-        done = [it for part in parts for it in _unpack(*part)]
+    # packed on one rank too: the records become columns (ColumnRecord) that the mirrored
+    # items reflect at once, and every rank count reads the same kind of record
+    parts = comm.bcast(comm.gather(_pack(done), root=0), root=0)
+    done = [it for part in parts for it in _unpack(*part)]
     return [r for _, r in sorted(done, key=lambda it: it[0])]
 
 
