@@ -70,6 +70,11 @@ def is_number(token: str) -> bool:
     return True
 
 
+def tokens(text: str) -> list[str]:
+    """The tokens of ``text`` split on blanks, commas and semicolons."""
+    return [t for t in _SPLIT.split(text.strip()) if t]
+
+
 def leading_numbers(text: str) -> list[str]:
     """The leading numeric tokens of ``text`` (split on blanks, commas, semicolons)."""
     out = []

@@ -18,16 +18,17 @@ The data are taken as exact (interpolating spline) unless ``smoothing`` is passe
 
 from __future__ import annotations
 
+import math
 import re
 
 from lutmpi.errors import ProfileError
 from lutmpi.profiles._raw import (
-    _SPLIT,
     RawProfile,
-    is_number,
+    leading_numbers,
     looks_numeric,
     parse_point,
     points_array,
+    tokens,
 )
 
 EXTENSIONS = (".csv", ".txt", ".dat")
@@ -37,13 +38,45 @@ _UNITS = {"mm": 1.0, "m": 1000.0}
 _COLUMN = re.compile(r"^\s*([a-z]+)\s*(?:[_\[(].*)?$", re.IGNORECASE)
 
 
-def _named_columns(header: str) -> tuple[int, int] | None:
-    """The indices of the columns a header line names ``y`` and ``z``, or None."""
-    names = [m.group(1).lower() if (m := _COLUMN.match(x)) else ""
-             for x in _SPLIT.split(header.strip()) if x and x[0] not in "[("]  # "y [mm]"
+def _header_columns(header: str) -> tuple[tuple[int, int] | None, list[str]]:
+    """The column names of a header line, and the indices of its ``y`` and ``z`` columns
+    (None unless it names each exactly once). A bracketed token after a name is its unit
+    (``y [mm]``), not a column."""
+    names: list[str] = []
+    for x in tokens(header):
+        if x[0] in "[(" and names:
+            continue
+        m = _COLUMN.match(x)
+        names.append(m.group(1).lower() if m else x.lower())
     if names.count("y") == 1 and names.count("z") == 1:
-        return names.index("y"), names.index("z")
-    return None
+        return (names.index("y"), names.index("z")), names
+    return None, names
+
+
+def _point(t: str, path: str, ln: int, cols: tuple[int, int] | None, names: list[str]
+           ) -> tuple[float, float]:
+    """The ``(y, z)`` of data line ``t`` (mm, as written): its first two numbers, or the
+    columns the header named; more than two numbers without such a header are refused."""
+    y, z = parse_point(t, path, ln)      # decimal commas, NaN, a missing number: refused
+    nums = leading_numbers(t)
+    if cols is not None:
+        if len(nums) <= max(cols):
+            raise ProfileError(f"{len(nums)} numbers, but the header names column "
+                               f"{max(cols) + 1} {'yz'[cols.index(max(cols))]!r}: {t!r}",
+                               path=path, line=ln)
+        y, z = float(nums[cols[0]]), float(nums[cols[1]])
+        if not (math.isfinite(y) and math.isfinite(z)):
+            raise ProfileError(f"NaN or inf in point line {t!r}", path=path, line=ln)
+        return y, z
+    if len(nums) > 2:
+        hint = (f"the header line names the columns {names}, which needs exactly one 'y' and "
+                "one 'z'" if names else "name the columns in a header line before the data "
+                "(not a comment), e.g. 'x y z'")
+        raise ProfileError(
+            f"{len(nums)} numeric columns in {t!r}, expected two (y z): which two are the "
+            f"profile is ambiguous (x y z? an index column?); {hint}, or keep only y and z",
+            path=path, line=ln)
+    return y, z
 
 
 def sniff(text: str) -> bool:
@@ -55,7 +88,7 @@ def parse(lines: list[str], path: str) -> RawProfile:
     """Read a plain two-column file into a :class:`RawProfile` (mm, normalized)."""
     scale, unit, unit_line, kind, kind_line = 1.0, "mm", None, None, None
     pts: list[tuple[float, float, int]] = []
-    header_seen, cols = False, None           # cols: the header's (y, z) column indices
+    header_seen, cols, names = False, None, []   # the header's (y, z) indices, its names
     for ln, text in enumerate(lines, start=1):
         t = text.strip()
         if not t:
@@ -78,24 +111,9 @@ def parse(lines: list[str], path: str) -> RawProfile:
             continue
         if not looks_numeric(t) and not pts and not header_seen:
             header_seen = True                # one line of column names
-            cols = _named_columns(t)
+            cols, names = _header_columns(t)
             continue
-        y, z = parse_point(t, path, ln)      # decimal commas, NaN, a missing number: refused
-        toks = [x for x in _SPLIT.split(t) if x]
-        if cols is not None and (len(toks) > 2 or max(cols) > 1):
-            if len(toks) <= max(cols):
-                raise ProfileError(f"{len(toks)} values, but the header names column "
-                                   f"{max(cols) + 1} as {'yz'[cols.index(max(cols))]!r}: "
-                                   f"{t!r}", path=path, line=ln)
-            pts.append((*parse_point(f"{toks[cols[0]]} {toks[cols[1]]}", path, ln), ln))
-            continue
-        if len(toks) > 2 and is_number(toks[2]):
-            raise ProfileError(
-                f"{sum(map(is_number, toks))} numeric columns in {t!r}, expected two (y z): "
-                "which two are the profile is ambiguous (x y z? an index column?); name the "
-                "columns in a header line before the data, e.g. 'x y z', or keep only y and z",
-                path=path, line=ln)
-        pts.append((y, z, ln))
+        pts.append((*_point(t, path, ln, cols, names), ln))
     y, z, ln_arr = points_array(pts)
     return RawProfile(y_mm=y * scale, z_mm=z * scale, lines=ln_arr, kind=kind,
                       kind_source=f"'# kind: {kind}' (line {kind_line})" if kind else "",

@@ -242,8 +242,16 @@ def test_plain_third_column_needs_named_columns(tmp_path: Path):
         p = read_profile(_write(tmp_path, "named.csv", lines))
         assert np.array_equal(p.y, ref.y) and np.array_equal(p.z, ref.z), header
     # named columns, but a line too short for them: refused at that line, not read as y z
-    bad = ["x,y,z"] + three[:5] + ["0.5,1.0"] + three[5:]
-    _raises_at(_write(tmp_path, "short.csv", bad), 7, "2 values, but the header names column 3")
+    bad = ["x,y,z"] + three[:5] + ["0.5,1.0 # short"] + three[5:]
+    _raises_at(_write(tmp_path, "short.csv", bad), 7,
+               "2 numbers, but the header names column 3 'z': '0.5,1.0 # short'")
+    # two columns named in the other order are read by their names
+    swapped = ["z,y"] + [",".join(ln.split(",")[::-1]) for ln in body]
+    p = read_profile(_write(tmp_path, "zy.csv", swapped))
+    assert np.array_equal(p.y, ref.y) and np.array_equal(p.z, ref.z)
+    # a header that does not name one y and one z: the message says what it named
+    _raises_at(_write(tmp_path, "yyz.csv", ["y,y,z"] + three), 2,
+               r"names the columns \['y', 'y', 'z'\], which needs exactly one")
 
 
 @pytest.mark.parametrize("lines", [[], ["# nothing"], ["y,z"], ["1,2", "3,4"]])
