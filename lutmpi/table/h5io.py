@@ -172,12 +172,17 @@ def read_attrs(path: str | os.PathLike[str]) -> dict[str, Any]:
 
 def _open_error(path: str | os.PathLike[str], exc: OSError) -> TableError:
     """The error for a file h5py cannot open: a file another process holds (HDF5's lock: a
-    build still writing it) is told apart from one that is not HDF5 at all."""
-    if "lock" in str(exc).lower():
+    build still writing it), and a file system without locks, are told apart from a file that
+    is not HDF5 at all."""
+    msg = str(exc)
+    if "unable to lock file" in msg and ("errno = 11" in msg or "temporarily unavailable" in msg):
         what = ("a build's unfinished output" if str(path).endswith(".partial")
                 else "open for writing")
         return TableError(f"{path}: {what}, locked by another process (a build still running?): "
                           f"wait for it to end, or read a copy of the file ({exc})")
+    if "unable to lock file" in msg:
+        return TableError(f"{path}: HDF5 cannot lock files on this file system ({exc}); set "
+                          "HDF5_USE_FILE_LOCKING=FALSE to read it without a lock")
     return TableError(f"{path}: not a readable HDF5 file ({exc})")
 
 

@@ -118,6 +118,13 @@ def test_a_table_another_process_holds_open_is_named_as_locked(tmp_path, table):
         finally:
             proc.kill()
     assert Table.open(held).path is not None          # readable once the other process ended
+    # a file that is no HDF5, in a folder whose name holds "lock": not taken for a locked one
+    from lutmpi.table.h5io import read_attrs
+    junk = tmp_path / "clock" / "t.h5"
+    junk.parent.mkdir()
+    junk.write_text("not hdf5")
+    with pytest.raises(TableError, match="not a readable HDF5 file"):
+        read_attrs(junk)
 
 
 def test_differences_detects_a_changed_value(tmp_path, table):
