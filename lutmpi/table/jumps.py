@@ -132,11 +132,13 @@ Record = dict[str, np.ndarray]
 
 class ColumnRecord(dict):
     """A pose record that is row ``row`` of the stacked ``columns`` (name -> array, one row a
-    record), as records arrive from other ranks (:func:`lutmpi.parallel.jumps_step._unpack`).
-    A plain dict of those rows to every reader; :meth:`Reflection.record` reflects it by
-    reflecting its columns once for all their rows (:meth:`Field.reflected_column`) instead
-    of one record at a time: a mirrored jump step reflects ~3 records per record solved, on
-    every rank (BENCHMARKS.md, 2026-11-27, sixth part)."""
+    record), as the jump step's results reach every rank (:func:`lutmpi.parallel.jumps_step.
+    _share`, on one rank too). A plain dict of those rows to every reader, and read-only (its
+    values are views of shared columns, and its reflection reads the columns);
+    :meth:`Reflection.record` reflects it by reflecting its columns once for all their rows
+    (:meth:`Field.reflected_column`) instead of one record at a time: a mirrored jump step
+    takes ~3 records reflected per record solved (docs/TABLES.md, § Reflections), on every
+    rank. Made by :meth:`at`."""
 
     __slots__ = ("columns", "row", "images")
 
@@ -148,6 +150,12 @@ class ColumnRecord(dict):
         rec = cls({n: c[row] for n, c in columns.items()})
         rec.columns, rec.row, rec.images = columns, row, images
         return rec
+
+    def _read_only(self, *args: Any, **kwargs: Any) -> None:
+        raise TypeError("a ColumnRecord is read-only (a row of shared columns): copy it with "
+                        "dict(record) to change it")
+
+    __setitem__ = __delitem__ = update = setdefault = pop = popitem = clear = _read_only
 
     def reflected(self, sides: bool, longitudinal: bool) -> ColumnRecord:
         """This record at the reflected pose (:meth:`Reflection.record`)."""

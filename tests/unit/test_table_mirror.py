@@ -349,6 +349,8 @@ def test_records_from_other_ranks_reflect_in_columns_to_the_same_bits():
             for name in plain:
                 a, b = np.asarray(want[name]), np.asarray(have[name])
                 assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), (g, name)
+            with pytest.raises(TypeError, match="read-only"):
+                have[D.z_g] = 0.0        # rows of shared columns: never changed in place
             back = g.record(have)        # a reflection is an involution, in columns too
             assert all(np.asarray(back[n]).tobytes() == np.asarray(plain[n]).tobytes()
                        for n in plain)
