@@ -101,10 +101,10 @@ def _gauge_v(point: str | float, rail: Profile, key: str = "rail.gauge_point") -
             v = min(max(v, rail.y_min), rail.y_max)
         return v
     v = float(point) * 1e-3
-    if not rail.y_min <= v <= rail.y_max:
-        raise ConfigError(f"gauge_point = {point!r} mm is outside the rail profile {rail.name} "
-                          f"(v = {rail.y_min * 1e3:.3f} .. {rail.y_max * 1e3:.3f} mm)", key=key)
-    return v
+    if rail.y_min - END_TOL_M <= v <= rail.y_max + END_TOL_M:   # an end point copied, rounded
+        return min(max(v, rail.y_min), rail.y_max)
+    raise ConfigError(f"gauge_point = {point!r} mm is outside the rail profile {rail.name} "
+                      f"(v = {rail.y_min * 1e3:.3f} .. {rail.y_max * 1e3:.3f} mm)", key=key)
 
 
 def side_profiles(cfg: Config) -> tuple[dict[str, Profile], dict[str, Profile]]:
