@@ -817,12 +817,12 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     k0, k1, k2, k3 = 1.0, 1.0, 1.0, 1.0
     lower_j, upper_j = lower, upper   # the outer columns that answer the quantities that jump
     if warp:
+        pieces = (pl, p0, p1, pu)          # column j - 1 + r's piece, and whether it answers
+        answers = (lower, True, True, upper)
         for r in range(4):
-            c = j - 1 + r
-            pc = pl if r == 0 else (p0 if r == 1 else (p1 if r == 2 else pu))
-            if not (lower if r == 0 else (upper if r == 3 else True)):
+            if not answers[r]:
                 continue
-            lc, uc = _bound(jy, nj, c, pc)
+            lc, uc = _bound(jy, nj, j - 1 + r, pieces[r])
             yc, kc, ok = _warp(y, ls, lc, us, uc, WARP_STEPS * h_y)
             if r == 0:
                 yc0, k0 = yc, kc
