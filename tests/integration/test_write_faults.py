@@ -65,6 +65,20 @@ def _journaled(out: Path) -> int:
         return 0
 
 
+def _ended(proc: subprocess.Popen, fault: str, limit: float = 60.0) -> tuple[str, float]:
+    """The build's stderr once it ended after ``fault`` (timed from now), and how long it took
+    (s); the test fails if it runs on for ``limit`` s."""
+    t0 = time.monotonic()
+    try:
+        _, stderr = proc.communicate(timeout=limit)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail(f"the build did not end within {limit:.0f} s of {fault}")
+    elapsed = time.monotonic() - t0
+    print(f"{fault}: ended {elapsed:.1f} s later; stderr tail:\n{stderr[-1500:]}")
+    return stderr, elapsed
+
+
 def _wait_for_points(proc: subprocess.Popen, out: Path, n: int, timeout: float = 60) -> int:
     t_end = time.monotonic() + timeout
     while time.monotonic() < t_end:
@@ -120,14 +134,7 @@ def test_disk_full_mid_build_ends_fast_and_resumes_identical(reference, small_fs
     proc = start_build(cfg, out, ranks, "--checkpoint-interval", "0", LUTMPI_FAULT=SLOW)
     before = _wait_for_points(proc, out, 6)
     filler = _fill(small_fs)
-    t_full = time.monotonic()
-    try:
-        _, stderr = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        pytest.fail("the build did not end within 60 s of the disk filling up")
-    elapsed = time.monotonic() - t_full
-    print(f"disk full: ended {elapsed:.1f} s after the fill; stderr tail:\n{stderr[-1500:]}")
+    stderr, elapsed = _ended(proc, "the disk filling up")
     assert proc.returncode != 0, stderr
     assert "No space left on device" in stderr and "--resume" in stderr, stderr
     assert "Segmentation" not in stderr and proc.returncode in (1, 2), proc.returncode
@@ -299,14 +306,7 @@ def test_output_folder_removed_mid_build_ends_with_one_line(reference, tmp_path,
     proc = start_build(cfg, out, ranks, "--checkpoint-interval", interval, LUTMPI_FAULT=SLOW)
     _wait_for_points(proc, out, 4)
     shutil.rmtree(folder)
-    t_removed = time.monotonic()
-    try:
-        _, stderr = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        pytest.fail("the build did not end within 60 s of its output folder being removed")
-    elapsed = time.monotonic() - t_removed
-    print(f"folder removed: ended {elapsed:.1f} s later; stderr tail:\n{stderr[-1500:]}")
+    stderr, elapsed = _ended(proc, "its output folder being removed")
     assert proc.returncode == 1, stderr
     assert "Traceback" not in stderr, stderr
     said = [line for line in stderr.splitlines() if "removed during the build" in line]

@@ -283,6 +283,20 @@ def test_grid_plan_solves_one_point_per_orbit():
     assert orbit0 <= set(solve.tolist()) and all(images[p] == [] for p in orbit0)
 
 
+def _awkward(rng: np.random.Generator, shape: tuple[int, ...], dtype: np.dtype) -> np.ndarray:
+    """Values a reflection must keep to the bit: floats with zeros and NaN of either sign
+    among them, integers of either sign."""
+    if dtype.kind != "f":
+        return rng.integers(-3, 100, size=shape).astype(dtype)
+    v = rng.normal(size=shape)
+    pick = rng.random(shape)
+    v[pick < 0.4] = 0.0
+    v[pick < 0.3] = -0.0
+    v[pick < 0.2] = np.nan
+    v[pick < 0.1] = -np.nan
+    return v.astype(dtype)
+
+
 def test_a_journal_row_reflected_on_its_bytes_is_every_field_reflected():
     """The build's grid reflects a journal row at once on its bytes (``row_reflection``):
     the same bits as :meth:`Field.reflected` field by field (``fill_row``) for each reflection,
@@ -292,17 +306,7 @@ def test_a_journal_row_reflected_on_its_bytes_is_every_field_reflected():
     rows = journal.empty_rows(dtype, methods, FIELDS, 4)
     rng = np.random.default_rng(7)
     for name in dtype.names:
-        a = rows[name]
-        if a.dtype.kind == "f":
-            v = rng.normal(size=a.shape)
-            pick = rng.random(a.shape)
-            v[pick < 0.4] = 0.0
-            v[pick < 0.3] = -0.0
-            v[pick < 0.2] = np.nan
-            v[pick < 0.1] = -np.nan
-            a[...] = v
-        else:
-            a[...] = rng.integers(-3, 100, size=a.shape)
+        rows[name][...] = _awkward(rng, rows[name].shape, rows[name].dtype)
     rows["point"] = [11, -1, -1, -1]
     for g in (SIDES_, LONG, BOTH):
         want = rows.copy()
@@ -327,19 +331,7 @@ def test_records_from_other_ranks_reflect_in_columns_to_the_same_bits():
     rng = np.random.default_rng(11)
     recs = []
     for _ in range(9):
-        rec = {}
-        for f in LFIELDS:
-            if np.dtype(f.dtype).kind == "f":
-                v = rng.normal(size=f.suffix)
-                pick = rng.random(f.suffix)
-                v[pick < 0.4] = 0.0
-                v[pick < 0.3] = -0.0
-                v[pick < 0.2] = np.nan
-                v[pick < 0.1] = -np.nan
-            else:
-                v = rng.integers(-3, 100, size=f.suffix)
-            rec[f.name] = np.asarray(v, dtype=f.dtype)
-        recs.append(rec)
+        recs.append({f.name: _awkward(rng, f.suffix, np.dtype(f.dtype)) for f in LFIELDS})
     got = _unpack(*_pack(recs))
     for g in (SIDES_, LONG, BOTH):
         for plain, col in zip(recs, got, strict=True):
