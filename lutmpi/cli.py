@@ -15,6 +15,7 @@ from typing import NoReturn
 import lutmpi
 from lutmpi import __version__
 from lutmpi.errors import LutmpiError
+from lutmpi.parallel.comm import raised_on_root
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -49,7 +50,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         rc = args.func(args)
     except LutmpiError as exc:
-        print(f"lutmpi {args.command}: error: {exc}", file=sys.stderr)
+        if not raised_on_root(exc):   # rank 0 prints what it decided for every rank, once
+            print(f"lutmpi {args.command}: error: {exc}", file=sys.stderr)
         return 128 + exc.signum if hasattr(exc, "signum") else 1
     except KeyboardInterrupt:     # Ctrl-C outside a build's compute loop: no traceback
         print(f"lutmpi {args.command}: interrupted", file=sys.stderr)

@@ -39,11 +39,14 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from lutmpi.config.load import load_config
+    from lutmpi.parallel.comm import root_decides
     from lutmpi.parallel.mpi import command_comm
     from lutmpi.parallel.runner import build_table
     from lutmpi.parallel.solver_hook import load_solver_hook
 
     comm = command_comm()
+    if comm is not None:   # a bad config: rank 0's error on every rank, printed once
+        root_decides(comm, lambda: load_config(args.config).text)
     config = load_config(args.config)
     solver = scene_factory = None
     if args.solver:
@@ -55,3 +58,4 @@ def run(args: argparse.Namespace) -> int:
                 methods=args.methods, scene_factory=scene_factory,
                 checkpoint_interval_s=args.checkpoint_interval, split=args.split)
     return 0
+

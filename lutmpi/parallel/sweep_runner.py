@@ -271,6 +271,7 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
     comm = SelfComm() if comm is None else comm
     out = Path(outdir)
     root_decides(comm, lambda: check_output_dir(out, "sweep output folder"))  # before any work
+    root_decides(comm, lambda: len(expand_sweep(sweep)))   # a bad file: rank 0's error, once
     members = expand_sweep(sweep)                      # pure: same list on every rank
     root_decides(comm, lambda: _make_outdir(out))
     cache = SceneCache(scene_factory or make_scene)

@@ -265,6 +265,20 @@ def test_second_build_on_same_output_refused_at_once_first_completes(reference, 
     assert not out.with_name(out.name + ".lock").exists()
 
 
+def test_an_error_decided_before_compute_is_printed_once_on_two_ranks(reference, tmp_path):
+    """A bad config key, or an output folder that does not exist: every rank ends with it, and
+    the job prints it once (rank 0; each rank printed it before, 16 lines on 16 ranks)."""
+    cfg, _ = reference
+    bad = tmp_path / "bad.toml"
+    bad.write_text(cfg.read_text().replace("refine = false", "refine = false\nbogus = 1"))
+    for config, out, said in ((bad, tmp_path / "t.h5", "[output.bogus] unknown key"),
+                              (cfg, tmp_path / "missing" / "t.h5", "does not exist")):
+        res = build(config, out, 2, timeout=60)
+        lines = [ln for ln in res.stderr.splitlines() if "lutmpi build: error:" in ln]
+        assert res.returncode != 0 and len(lines) == 1 and said in lines[0], res.stderr
+        assert "Traceback" not in res.stderr
+
+
 # -- Ctrl-C / SIGTERM ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize(("ranks", "sig"), [(1, signal.SIGINT), (2, signal.SIGINT),
