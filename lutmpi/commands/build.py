@@ -58,4 +58,3 @@ def run(args: argparse.Namespace) -> int:
                 methods=args.methods, scene_factory=scene_factory,
                 checkpoint_interval_s=args.checkpoint_interval, split=args.split)
     return 0
-

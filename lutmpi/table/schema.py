@@ -93,22 +93,20 @@ class Field:
         radii, curvatures, forces are each wheel's own. Both: the pose ``(-y, yaw)``. lutmpi's
         solver is symmetric under both (``tests/unit/test_table_mirror.py``): to the bit in
         the first, to rounding (1e-14 relative) in the second."""
-        swap, comps, negate = _reflection_plan(self.name, sides, longitudinal)
-        v = np.array(value, dtype=self.dtype)
-        if swap:
-            v = v[::-1].copy()
-        for c in comps:
-            v[..., c] = -v[..., c]
-        return -v if negate else v
+        return self._reflect(value, sides, longitudinal, 0)
 
     def reflected_column(self, column: np.ndarray, sides: bool, longitudinal: bool
                          ) -> np.ndarray:
         """:meth:`reflected` of every value of ``column`` (shape ``(n,) + suffix``: ``n``
         values of this field stacked) at once; the same arithmetic, so the same bits."""
+        return self._reflect(column, sides, longitudinal, 1)
+
+    def _reflect(self, value: np.ndarray, sides: bool, longitudinal: bool, wheel_axis: int
+                 ) -> np.ndarray:
         swap, comps, negate = _reflection_plan(self.name, sides, longitudinal)
-        v = np.array(column, dtype=self.dtype)
+        v = np.array(value, dtype=self.dtype)
         if swap:
-            v = v[:, ::-1].copy()
+            v = np.flip(v, wheel_axis).copy()
         for c in comps:
             v[..., c] = -v[..., c]
         return -v if negate else v
