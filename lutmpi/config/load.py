@@ -445,6 +445,45 @@ def _check_sides(base: Any, name: str, where: _Where) -> None:
         if res.generator is not None and res.format is not None:
             raise where.error(f"{name}.{side}.format",
                               "'format' applies to a profile file, not a generator")
+    _check_reading_options(base, name, where)
+
+
+# the keys of ReadOptions (lutmpi/profiles/options.py) a config gives: they act on a file's points
+_READING_OPTIONS = ("flip_y", "flip_z", "origin", "offset_y_mm", "offset_z_mm")
+
+
+def _check_reading_options(base: Any, name: str, where: _Where) -> None:
+    """The reading options (flip, origin, offsets) act on a file's points only: one that only a
+    generator takes is an error naming its key, not a silent no-op. A ``[wheel]`` / ``[rail]``
+    option is fine while some side reads a file with it; an option at its default (as a
+    written-back config gives it) is never an error."""
+    defaults = type(base)()
+    for opt in _READING_OPTIONS:
+        if not hasattr(base, opt):   # origin: wheels only
+            continue
+        default = getattr(defaults, opt)
+        takers = []   # the sides that take [name]'s value of opt
+        for side in SIDE_NAMES:
+            res, own = base.side(side), getattr(getattr(base, side), opt)
+            if own is None:
+                takers.append((side, res))
+            elif res.generator is not None and own != default:
+                raise _generator_option(where, f"{name}.{side}.{opt}", name, side, res.generator)
+        if getattr(base, opt) != default and takers and all(
+                res.generator is not None for _, res in takers):
+            side, res = takers[0]
+            raise _generator_option(where, f"{name}.{opt}", name,
+                                    side if len(takers) < len(SIDE_NAMES) else None,
+                                    res.generator)
+
+
+def _generator_option(where: _Where, key: str, name: str, side: str | None,
+                      generator: str | None) -> ConfigError:
+    opt = key.rsplit(".", 1)[1]
+    what = f"the {side} {name}" if side else f"the {name}"
+    return where.error(key, f"'{opt}' is a reading option and applies to a profile file only; "
+                            f"{what} is the built-in generator {generator!r}: delete the key "
+                            "or give a profile file")
 
 
 def _check_output(cfg: Config, where: _Where) -> None:

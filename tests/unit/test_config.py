@@ -263,6 +263,48 @@ def test_both_profile_and_generator(tmp_path):
     assert err.value.key == "wheel"
 
 
+GENERATOR_OPTIONS = [  # (section overrides on MINIMAL, the key the error must name)
+    ({"wheel": {"generator": "S1002", "offset_y_mm": 2.0}}, "wheel.offset_y_mm"),
+    ({"wheel": {"generator": "S1002", "flip_z": True}}, "wheel.flip_z"),
+    ({"wheel": {"generator": "S1002", "origin": "flange_back"}}, "wheel.origin"),
+    ({"rail": {"generator": "UIC60", "offset_z_mm": 5.0}}, "rail.offset_z_mm"),
+    ({"rail": {"generator": "UIC60", "flip_y": True}}, "rail.flip_y"),
+    ({"wheel": {"generator": "S1002", "left": {"offset_y_mm": 1}}}, "wheel.left.offset_y_mm"),
+    ({"rail": {"generator": "UIC60", "right": {"flip_z": True}}}, "rail.right.flip_z"),
+    # the right wheel has its own file and offset: [wheel]'s offset reaches only the generator
+    ({"wheel": {"generator": "S1002", "offset_y_mm": 2.0,
+                "right": {"profile": "profiles/MBench_S1002_v3.prw", "offset_y_mm": 0.5}}},
+     "wheel.offset_y_mm"),
+]
+
+
+@pytest.mark.parametrize(("sections", "key"), GENERATOR_OPTIONS,
+                         ids=[k for _, k in GENERATOR_OPTIONS])
+def test_a_reading_option_on_a_generator_names_the_key(sections, key):
+    # tester's F3: these were accepted and silently ignored (the generated profile unchanged)
+    data = {**copy.deepcopy(MINIMAL), **sections}
+    with pytest.raises(ConfigError, match="applies to a profile file only") as err:
+        config_from_dict(data, path="/x/g.toml")
+    assert err.value.key == key
+    assert f"[{key}]" in str(err.value) and "/x/g.toml" in str(err.value)
+
+
+def test_reading_options_at_their_defaults_or_for_a_file_are_accepted():
+    # a written-back config gives every option at its default, generators included
+    data = _with("wheel.flip_y", False, _with("rail.offset_z_mm", 0.0))
+    assert config_from_dict(data).wheel.flip_y is False
+    # [wheel]'s option reaches the right wheel's file (the left is a generator)
+    wheel = {"generator": "S1002", "offset_y_mm": 2.0,
+             "right": {"profile": "profiles/MBench_S1002_v3.prw"}}
+    cfg = config_from_dict({**MINIMAL, "wheel": wheel})
+    assert cfg.wheel.side("right").offset_y_mm == 2.0
+    # a file with its options, a generator on the other side
+    wheel = {"profile": "profiles/MBench_S1002_v3.prw", "flip_z": False, "offset_z_mm": 1.0,
+             "left": {"generator": "S1002"}}
+    cfg = config_from_dict({**MINIMAL, "wheel": wheel})
+    assert cfg.wheel.side("left").generator == "S1002"
+
+
 @pytest.mark.parametrize("section", ["wheel", "rail"])
 def test_required_sections(section):
     data = copy.deepcopy(MINIMAL)
