@@ -109,9 +109,11 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
             # the same value on every rank (collective metadata): rank 0's
             "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
         if comm.rank == 0:
-            log.info("%s: %d candidate cells, %d jumps located (per yaw: max %d), %d extra knots; "
+            log.info("%s: %d candidate cells, %d jumps located (per yaw: max %d; %d of them "
+                     "by the refinement between the cells' jumps), %d extra knots; "
                      "interpolants %s", method, counts["cells"], int(js.count.sum()),
-                     int(js.count.max(initial=0)), int(np.isfinite(js.knot_y).sum()),
+                     int(js.count.max(initial=0)), counts["in_refinement"],
+                     int(np.isfinite(js.knot_y).sum()),
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
             _jumps.warn_in_part(counts["in_part"], grid.yaw, method)
             if mirror is not None:
@@ -269,12 +271,15 @@ def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fie
              else [])
     item_pairs = mirror.items(items) if mirror else {}
     refined = _jumps.mirrored_map(items, lambda todo: _share(comm, todo, lambda it: (
-        _jumps.refine_interval(it[1][0], it[1][1], it[2][0], it[2][1], float(grid.yaw[it[0]]),
-                               solve, mesh=mesh, scale=scale, outer=it[3])), split),
-        item_pairs, mirror.samples if mirror else None)
+        _jumps.refine_item(it[0], it[1][0], it[1][1], it[2][0], it[2][1],
+                           float(grid.yaw[it[0]]), solve, mesh=mesh, scale=scale, outer=it[3])),
+        split), item_pairs, mirror.cell_result if mirror else None)
     log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),
               t1 - t0, len(items), time.perf_counter() - t1)
-    extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
+    between = [jp for jps, _ in refined for jp in jps]
+    found += between
+    extra += [(it[0], y, r) for it, (_, rs) in zip(items, refined, strict=True) for y, r in rs]
     counts = {"cells": len(cells), "cells_mirrored": len(cell_pairs), "intervals": len(items),
-              "intervals_mirrored": len(item_pairs), "in_part": in_part}
+              "intervals_mirrored": len(item_pairs), "in_part": in_part,
+              "in_refinement": len(between)}
     return _jumps.assemble(found, extra, grid.yaw.size, fields), counts

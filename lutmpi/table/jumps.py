@@ -36,7 +36,9 @@ Algorithm, per yaw column and per grid cell ``[y_i, y_i+1]``:
    :data:`MIN_WIDTH_M`, as long as the miss keeps falling (:data:`REFINE_GAIN`; solver noise
    does not fall, so noise is not chased). Every pose solved after the build is kept as an
    extra knot of its column: the table is the grid plus what the jumps and the curvature of
-   the contact needed.
+   the contact needed. A jump no cell showed (changes that cancel within a cell, a step inside
+   a fast-moving contact) shows in the refinement, which then searches that interval as a cell
+   (:func:`refine_item`) and keeps the jumps it finds.
 6. *Mirror* (:class:`Mirror`): a wheel is a body of revolution and a rail an extrusion along
    x, so the pose (y, -yaw) is the pose (y, yaw) reflected in the track's y-z plane, for any
    pair; on a symmetric pair (both wheels one profile on one rail profile) the pose (-y, -yaw)
@@ -540,7 +542,8 @@ def _sign(a: float) -> float:
 def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, solve: PoseSolver,
                     min_width: float = MIN_WIDTH_M, mesh: MeshResolution | None = None,
                     parent: tuple[float, dict] | None = None, scale: float = 1.0,
-                    outer: tuple[Knot | None, Knot | None] = (None, None)
+                    outer: tuple[Knot | None, Knot | None] = (None, None),
+                    found: list[Jump] | None = None, iyaw: int = 0
                     ) -> list[tuple[float, Record]]:
     """Midpoint solves of one interval of a piece, recursively where the interpolant misses
     the midpoint (:func:`_miss`) by more than its :func:`tolerances` (``mesh``: the method's
@@ -551,9 +554,16 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
     :data:`CUBIC_TESTED` goes through; a half's are the other end and the outer knot on its
     side.
 
-    A midpoint whose discrete state (status, contact count) differs from an end is dropped and
-    not refined further: a jump the grid-level search did not see (two changes that cancel in
-    one cell); the interval keeps its two knots.
+    A jump the grid-level search did not see shows here in one of two ways: a midpoint whose
+    discrete state (status, contact count) differs from an end (two changes that cancel in
+    one cell), or a miss that does not fall when the interval halves while the contact point
+    moves by more than :data:`CONFIRM_M` between the ends (a step hidden in a fast-moving
+    contact: on a worn flange the contact ran 1.9 mm per mm of y and jumped 0.85 mm within
+    it, a rolling radius step of 1.4 mm that no cell's movement flagged). With ``found`` (a
+    list) the interval is then searched as a cell is (:func:`_search`, with the poses it
+    solved), the jumps appended to ``found`` (column ``iyaw``) and the pieces between them
+    refined on their own; without it such a midpoint is dropped and the interval keeps its two
+    knots (the straight line across the change).
 
     Returns
     -------
@@ -566,7 +576,10 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
     rm = solve(xm, yaw)
     km = _disc(rm)
     if km != _disc(r0) or km != _disc(r1):
-        return []
+        if found is None:
+            return []
+        return _split(x0, r0, x1, r1, (xm, rm), yaw, solve, found, iyaw, min_width, mesh,
+                      scale, outer)
     out = [(xm, rm)]
     tols = tolerances((r0, r1, rm), mesh, scale)
     knots = (outer[0], (x0, r0), (x1, r1), outer[1])
@@ -575,11 +588,77 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
                        or _miss(knots, xm, rm, parent[1]) < REFINE_GAIN * parent[0]):
         here = (miss, tols)
         out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, here, scale,
-                               (outer[0], (x1, r1)))
+                               (outer[0], (x1, r1)), found, iyaw)
                + out
                + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, mesh, here, scale,
-                                 ((x0, r0), outer[1])))
+                                 ((x0, r0), outer[1]), found, iyaw))
+    elif (miss > 1.0 and found is not None
+          and classify(_keys(r0), _keys(r1), CONFIRM_M)[0]):
+        # the miss did not fall by halving, and the contact moved: a step, not a curvature
+        return _split(x0, r0, x1, r1, (xm, rm), yaw, solve, found, iyaw, min_width, mesh,
+                      scale, outer)
     return out
+
+
+def _split(x0: float, r0: Record, x1: float, r1: Record, mid: Knot, yaw: float,
+           solve: PoseSolver, found: list[Jump], iyaw: int, min_width: float,
+           mesh: MeshResolution | None, scale: float,
+           outer: tuple[Knot | None, Knot | None]) -> list[tuple[float, Record]]:
+    """:func:`refine_interval` where the interval holds a change its ends do not tell: the
+    jumps between ``x0``, the solved midpoint ``mid`` and ``x1`` located by :func:`_search`
+    (a cell's steps 2-4, at most :data:`MAX_PER_CELL`, with :data:`CONFIRM_M` as the
+    threshold: what a cell searched by its sudden movement takes), appended to ``found``; the
+    pieces between them refined as intervals of their own. Returns every pose solved here
+    (but those strictly inside a bracket), sorted by y. Where no jump is confirmed (a
+    continuous contact that is merely steep) the poses are knots and nothing else changes."""
+    samples: list[tuple[float, Record]] = [mid]
+
+    def sampled(y: float) -> Record:
+        rec = solve(y, yaw)
+        samples.append((y, rec))
+        return rec
+
+    here: list[Jump] = []
+    for (a, ra), (b, rb) in (((x0, r0), mid), (mid, (x1, r1))):
+        here += _search(a, ra, b, rb, sampled, iyaw, TOL_M, CONFIRM_M, CONFIRM_M,
+                        MAX_PER_CELL - len(here), samples)
+    if not here:
+        return sorted(samples, key=lambda p: p[0])
+    here.sort(key=lambda jp: jp.lo)
+    found.extend(here)
+    kept = sorted((p for p in samples if not any(jp.lo < p[0] < jp.hi for jp in here)),
+                  key=lambda p: p[0])
+    # the pieces: x0 .. first bracket, between brackets, last bracket .. x1; each piece's
+    # knots are its ends and the poses solved inside it, each pair refined with its neighbours
+    bounds = [((x0, r0), outer[0])] + [((jp.hi, jp.rec_hi), None) for jp in here]
+    ends = [((jp.lo, jp.rec_lo), None) for jp in here] + [((x1, r1), outer[1])]
+    out = list(kept)
+    for (start, left), (stop, right) in zip(bounds, ends, strict=True):
+        inner = [p for p in kept if start[0] < p[0] < stop[0]]
+        piece = [start] + inner + [stop]
+        for k in range(len(piece) - 1):
+            before = piece[k - 1] if k > 0 else left
+            after = piece[k + 2] if k + 2 < len(piece) else right
+            ka = _disc(piece[k][1])
+            same = [n if n is not None and _disc(n[1]) == ka else None for n in (before, after)]
+            out += refine_interval(piece[k][0], piece[k][1], piece[k + 1][0], piece[k + 1][1],
+                                   yaw, solve, min_width, mesh, None, scale,
+                                   (same[0], same[1]), found, iyaw)
+    return sorted(out, key=lambda p: p[0])
+
+
+def refine_item(iyaw: int, x0: float, r0: Record, x1: float, r1: Record, yaw: float,
+                solve: PoseSolver, *, mesh: MeshResolution | None = None, scale: float = 1.0,
+                outer: tuple[Knot | None, Knot | None] = (None, None)
+                ) -> tuple[list[Jump], list[tuple[float, Record]]]:
+    """One refinement interval of column ``iyaw`` (:func:`refinement_plan`'s item):
+    :func:`refine_interval` with the jumps it finds kept. Returns ``(jumps, samples)`` sorted
+    by y, the shape of :func:`refine_cell`'s result (and reflected as it is:
+    :meth:`Mirror.cell_result`)."""
+    found: list[Jump] = []
+    knots = refine_interval(x0, r0, x1, r1, yaw, solve, mesh=mesh, scale=scale, outer=outer,
+                            found=found, iyaw=iyaw)
+    return sorted(found, key=lambda jp: jp.lo), knots
 
 
 def column_knots(arrays: dict[str, np.ndarray], y_axis: np.ndarray, j: int,
@@ -701,11 +780,13 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
     warn_in_part(searched_in_part(arrays, y_axis, cells, res), yaw_axis)
     if refine:
         items = refinement_plan(arrays, y_axis, yaw_axis.size, found, extra)
-        refined = mirrored_map(items, lambda todo: [refine_interval(
-            x0, r0, x1, r1, float(yaw_axis[j]), solve, mesh=mesh, scale=scale, outer=outer)
+        refined = mirrored_map(items, lambda todo: [refine_item(
+            j, x0, r0, x1, r1, float(yaw_axis[j]), solve, mesh=mesh, scale=scale, outer=outer)
             for j, (x0, r0), (x1, r1), outer in todo], mirror.items(items) if mirror else None,
-            mirror.samples if mirror else None)
-        extra += [(it[0], y, r) for it, rs in zip(items, refined, strict=True) for y, r in rs]
+            mirror.cell_result if mirror else None)
+        found += [jp for jps, _ in refined for jp in jps]
+        extra += [(it[0], y, r) for it, (_, rs) in zip(items, refined, strict=True)
+                  for y, r in rs]
     return assemble(found, extra, yaw_axis.size, fields)
 
 

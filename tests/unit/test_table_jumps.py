@@ -937,3 +937,108 @@ def test_a_cell_with_more_jumps_than_the_search_takes_is_reported(steps, in_part
     with caplog.at_level("WARNING", logger="lutmpi.table.jumps"):
         tj.locate_jumps(arrays, y_axis, yaw_axis, staircase, FLDS, refine=False)
     assert ("located in part" in caplog.text) == in_part
+
+
+def _column(fn, y_axis: np.ndarray) -> dict[str, np.ndarray]:
+    """One yaw column (yaw 0) of the closed-form ``fn(y, yaw) -> record`` at ``y_axis``."""
+    out = {f.name: f.empty((y_axis.size, 1)) for f in FLDS}
+    for i, y in enumerate(y_axis):
+        for name, v in fn(float(y), 0.0).items():
+            out[name][i, 0] = v
+    return out
+
+
+def _fast_flange(at: float):
+    """A left contact that runs 1.9 mm along the profile per mm of y and steps by 0.85 mm at
+    ``at`` (rolling radius 0.478 m - s: a 0.85 mm step), the contacts unchanged: what a
+    hostile tester met on a measured worn flange (Car7216 on the Manchester rail, yaw 0.05)."""
+    def fast(y: float, yaw: float) -> dict[str, np.ndarray]:
+        rec = synthetic(-1e-3, yaw)                      # smooth base: tread side
+        s = -0.04 - 1.9 * y - (0.85e-3 if y >= at else 0.0)
+        rec["wheel_s"][:, 0] = [s, -y]
+        rec["rail_v"][:, 0] = [-0.03 - 0.2 * y, y]
+        rec["rolling_radius"][:, 0] = [0.478 - s, 0.46]
+        rec["z_g"] = np.float64(0.46 + 0.02 * y)
+        return rec
+    return fast
+
+
+def test_a_step_inside_a_fast_moving_contact_is_located_by_the_refinement():
+    """No cell shows the step: the cell holding it moves 1.8 mm (below 2 mm) and less than
+    twice its neighbours' 0.95 mm. The refinement's miss does not fall when the interval
+    halves while the contact moves by more than CONFIRM_M: the interval is searched, the jump
+    located within the tolerance, and the table reads both branches exactly beside it.
+    Before, the refinement ran a straight line across it (0.42 mm of rolling radius at the
+    step); it still does with ``refine=False``, which finds nothing."""
+    at = 1.234e-3
+    fast = _fast_flange(at)
+    y_axis, yaw_axis = np.linspace(-2e-3, 4e-3, 13), np.array([0.0])
+    arrays = _column(fast, y_axis)
+    assert tj.candidate_cells(arrays) == []
+    assert tj.locate_jumps(arrays, y_axis, yaw_axis, fast, FLDS, refine=False).count.tolist() == [0]
+    js = tj.locate_jumps(arrays, y_axis, yaw_axis, fast, FLDS)
+    assert js.count.tolist() == [1]
+    lo, hi = js.arrays["jump_y_lo"][0, 0], js.arrays["jump_y_hi"][0, 0]
+    assert lo < at <= hi and hi - lo <= tj.TOL_M
+    assert js.arrays["jump_kind"][0, 0] == 1 and js.arrays["jump_side"][0, 0] == 1
+    ip = ti.build(y_axis, yaw_axis, arrays, js.arrays, js.limits, js.knot_y, js.knots)
+    off = ip.layout.slots["rolling_radius"][0]
+    y = at + np.array([-200e-6, -20e-6, -4e-6, 4e-6, 20e-6, 200e-6])
+    want = [fast(v, 0.0)["rolling_radius"][0, 0] for v in y]
+    got = ip.evaluate(y, np.zeros(y.size))[0][:, off]
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+
+
+def test_changes_that_cancel_within_a_cell_are_located_by_the_refinement():
+    """A second contact comes and goes within 40 um of one cell, the contact otherwise still:
+    the cell's ends agree, so no cell is searched. The refinement's midpoint lands in it, and
+    both changes are located (before, that midpoint was dropped and the table ran across
+    them); the table then reads two contacts inside and one outside."""
+    at = (0.2312e-3, 0.2688e-3)
+
+    def flicker(y: float, yaw: float) -> dict[str, np.ndarray]:
+        rec = synthetic(-1e-3, yaw)
+        rec["n_contacts"] = np.array([2 if at[0] <= y < at[1] else 1, 1], np.int8)
+        return rec
+
+    y_axis, yaw_axis = np.linspace(-0.5e-3, 1.0e-3, 4), np.array([0.0])
+    arrays = _column(flicker, y_axis)
+    assert tj.candidate_cells(arrays) == []
+    js = tj.locate_jumps(arrays, y_axis, yaw_axis, flicker, FLDS)
+    assert js.count.tolist() == [2]
+    assert np.abs(js.arrays["jump_y"][0, :2] - np.array(at)).max() <= tj.TOL_M / 2
+    assert js.arrays["jump_kind"][0, :2].tolist() == [2, 2]
+    ip = ti.build(y_axis, yaw_axis, arrays, js.arrays, js.limits, js.knot_y, js.knots)
+    off = ip.layout.slots["n_contacts"][0]
+    y = np.array([0.2e-3, 0.25e-3, 0.3e-3])
+    got = ip.evaluate(y, np.zeros(3))[0][:, off]
+    assert got.tolist() == [1, 2, 1]
+
+
+def test_a_jump_the_refinement_finds_is_reflected_into_the_image_column():
+    """On a grid symmetric in yaw, the interval of yaw -a is refined and the one of +a is its
+    image (x -> -x): the jump found inside the one is stored in both columns, at the same y,
+    and the image's interval is not solved."""
+    at = 1.234e-3
+    fast = _fast_flange(at)
+    y_axis, yaw_axis = np.linspace(-2e-3, 4e-3, 13), np.array([-0.01, 0.0, 0.01])
+    arrays = {f.name: f.empty((y_axis.size, yaw_axis.size)) for f in FLDS}
+    for i, y in enumerate(y_axis):
+        for j, yaw in enumerate(yaw_axis):
+            for name, v in fast(float(y), float(yaw)).items():
+                arrays[name][i, j] = v
+    counts = {}
+    for mirror in (None, tj.Mirror.of(y_axis, yaw_axis, False)):
+        calls: list[tuple[float, float]] = []
+
+        def solve(y: float, yaw: float, calls: list = calls) -> dict[str, np.ndarray]:
+            calls.append((y, yaw))
+            return fast(y, yaw)
+
+        js = tj.locate_jumps(arrays, y_axis, yaw_axis, solve, FLDS, mirror=mirror)
+        assert js.count.tolist() == [1, 1, 1]
+        np.testing.assert_array_equal(js.arrays["jump_y"][0], js.arrays["jump_y"][2])
+        counts[mirror is None] = len(calls)
+        if mirror is not None:
+            assert all(yaw <= 0.0 for _, yaw in calls)
+    assert counts[False] < counts[True]
