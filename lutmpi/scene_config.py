@@ -118,7 +118,8 @@ def side_profiles(cfg: Config) -> tuple[dict[str, Profile], dict[str, Profile]]:
             wear = getattr(cfg.wear, kind).side(name)
             key = (kind, res, wear)
             if key not in cache:
-                cache[key] = _load(cfg, kind, res, wear, _source_key(sec, kind, name))
+                cache[key] = _load(cfg, kind, res, wear, _source_key(sec, kind, name),
+                                   _thinning_key(cfg, kind, name))
             out[name] = cache[key]
     return wheels, rails
 
@@ -128,7 +129,13 @@ def _source_key(sec, kind: str, side: str) -> str:
     return f"{kind}.{side}.profile" if own.profile is not None else f"{kind}.profile"
 
 
-def _load(cfg: Config, kind: str, sec, wear_cfg, key: str) -> Profile:
+def _thinning_key(cfg: Config, kind: str, side: str) -> str:
+    own = kind == "wheel" and getattr(cfg.wear.wheel, side).flange_thinning_mm is not None
+    return f"wear.wheel.{side}.flange_thinning_mm" if own else "wear.wheel.flange_thinning_mm"
+
+
+def _load(cfg: Config, kind: str, sec, wear_cfg, key: str,
+          thinning_key: str = "wear.wheel.flange_thinning_mm") -> Profile:
     """One profile: generated, or read with the section's reading options; then the wear."""
     from lutmpi.profiles import wear
     from lutmpi.profiles.readers import read_profile
@@ -148,7 +155,8 @@ def _load(cfg: Config, kind: str, sec, wear_cfg, key: str) -> Profile:
                               path=None if cfg.path is None else str(cfg.path)) from None
     if kind == "wheel":
         if wear_cfg.flange_thinning_mm:
-            prof = wear.flange_thinning(prof, wear_cfg.flange_thinning_mm)
+            prof = _thinned(prof, wear_cfg.flange_thinning_mm, thinning_key,
+                            None if cfg.path is None else str(cfg.path))
         if wear_cfg.tread_hollowing_mm:
             prof = wear.tread_hollowing(prof, wear_cfg.tread_hollowing_mm)
     else:
@@ -158,3 +166,42 @@ def _load(cfg: Config, kind: str, sec, wear_cfg, key: str) -> Profile:
             prof = wear.rail_side_wear(prof, wear_cfg.side_mm)
     return prof
 
+
+def _thinned(wheel: Profile, thickness_mm: float, key: str, path: str | None) -> Profile:
+    """``wheel`` with its flange thinned by ``thickness_mm``, or a ConfigError naming ``key`` and
+    the largest thinning this wheel takes: the thinning tapers to zero at the flange tip, which
+    stays, so the face above the Sd height steepens with it until it folds over itself or passes
+    the placement's slope limit, beyond which the flange tip would be no contact candidate."""
+    from lutmpi.geometry.track import MAX_SLOPE_DEG, WheelCut
+    from lutmpi.profiles import wear
+
+    def worn_or_why(t: float) -> Profile | str:
+        try:
+            worn = wear.flange_thinning(wheel, t)
+        except ProfileError:
+            return "folds the flange face over itself"
+        if WheelCut.of(worn).tip_dropped:
+            return (f"leaves a stretch of the face steeper than {MAX_SLOPE_DEG:g} deg, beyond "
+                    "which the flange tip would be no contact candidate")
+        return worn
+
+    out = worn_or_why(thickness_mm)
+    if isinstance(out, Profile):
+        return out
+    most = _last_that_works(lambda t: isinstance(worn_or_why(t), Profile), thickness_mm)
+    raise ConfigError(f"{thickness_mm:g} mm is more than the wheel {wheel.name} takes: the "
+                      f"thinning tapers to zero at the flange tip, which stays, and at "
+                      f"{thickness_mm:g} mm it {out}; every thinning up to {most:.2f} mm works "
+                      "for this wheel", key=key, path=path)
+
+
+def _last_that_works(works, upto: float) -> float:
+    """The largest multiple of 0.01 below ``upto`` up to which ``works`` holds at every step of
+    0.1, then 0.01 (a scan, not a bisection: the spline's steepest slope on the face wiggles by
+    ~0.2 deg with the thinning, so the thinnings past the limit are not one interval)."""
+    good = 0.0
+    for step in (0.1, 0.01):
+        t = round(good + step, 2)
+        while t < upto and works(t):
+            good, t = t, round(t + step, 2)
+    return good

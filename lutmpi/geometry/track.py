@@ -19,6 +19,7 @@ Wheel placement
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,6 +29,8 @@ from scipy.optimize import brentq
 from lutmpi.errors import GeometryError
 from lutmpi.profiles.model import Profile
 from lutmpi.profiles.spline import fast
+
+log = logging.getLogger(__name__)
 
 SIDES = {"left": 1.0, "right": -1.0}
 MAX_SLOPE_DEG = 85.0  # profile parts steeper than this are never contact candidates
@@ -206,6 +209,79 @@ class PlacedRail:
 
 
 @dataclass(frozen=True, eq=False)
+class WheelCut:
+    """What the wheel placement keeps of a profile: the samples ``s[lo..hi]`` (m) around the tape
+    circle no steeper than ``limit_deg``; beyond the first steeper sample on either side the
+    profile is no contact candidate. A steep end face (the flange back, a rim) dropped whole is
+    by design; surface beyond a steep stretch is lost, and the flange tip among it is an error."""
+
+    s: np.ndarray
+    z: np.ndarray
+    slope: np.ndarray
+    lo: int
+    hi: int
+    limit_deg: float
+
+    @classmethod
+    def of(cls, profile: Profile, max_slope_deg: float = MAX_SLOPE_DEG) -> WheelCut:
+        n = max(int((profile.y_max - profile.y_min) / _SAMPLE), 200)
+        s = np.linspace(profile.y_min, profile.y_max, n)
+        slope = profile.slope(s)
+        lo, hi = _contiguous_slope_range(slope, int(np.argmin(np.abs(s))),
+                                         np.tan(np.radians(max_slope_deg)))
+        return cls(s, profile.z_at(s), slope, lo, hi, float(max_slope_deg))
+
+    @property
+    def tip_dropped(self) -> bool:
+        """True when the flange side's highest point (the tip) lies in the dropped part."""
+        i0 = int(np.argmin(np.abs(self.s)))
+        return self.lo > 0 and self.z[: self.lo].max() > self.z[self.lo: i0 + 1].max() + 1e-6
+
+    def _steep(self, part: slice) -> tuple[float, float, float]:
+        """(first s, last s, steepest angle in deg) of the steep stretch next to the kept part."""
+        bad = np.flatnonzero(np.abs(self.slope[part]) > np.tan(np.radians(self.limit_deg)))
+        idx = np.arange(self.s.size)[part][bad]
+        run = idx[-1] if part.start is None else idx[0]    # the sample next to the kept part
+        k = np.flatnonzero(np.abs(np.diff(idx)) > 1)
+        if part.start is None:
+            first = idx[k[-1] + 1] if k.size else idx[0]
+            a, b = first, run
+        else:
+            last = idx[k[0]] if k.size else idx[-1]
+            a, b = run, last
+        deg = np.degrees(np.arctan(np.abs(self.slope[a: b + 1]).max()))
+        return self.s[a] * 1e3, self.s[b] * 1e3, float(deg)
+
+    def tip_message(self, name: str) -> str:
+        a, b, deg = self._steep(slice(None, self.lo))
+        i0 = int(np.argmin(np.abs(self.s)))
+        tip = int(np.argmax(self.z[: self.lo]))
+        return (f"wheel {name}: the flange face at s = {a:.2f} .. {b:.2f} mm is steeper than the "
+                f"{self.limit_deg:g} deg a contact may have (up to {deg:.1f} deg), and the usable "
+                f"profile ends there: s = {self.s[0] * 1e3:.2f} .. "
+                f"{self.s[self.lo - 1] * 1e3:.2f} mm would be dropped with the flange tip "
+                f"(s = {self.s[tip] * 1e3:.2f} mm, "
+                f"dr = {self.z[tip] * 1e3:.2f} mm; the kept part reaches dr = "
+                f"{self.z[self.lo: i0 + 1].max() * 1e3:.2f} mm), so flange contacts would end "
+                "at the profile's end; check the flange of the profile (or its wear)")
+
+    def drop_messages(self, name: str) -> list[str]:
+        """One line per dropped part that holds surface no steeper than the limit."""
+        ok = np.abs(self.slope) <= np.tan(np.radians(self.limit_deg))
+        out = []
+        for part, side in ((slice(None, self.lo), "flange"), (slice(self.hi + 1, None), "field")):
+            if not ok[part].any():
+                continue   # empty, or a steep end face only: nothing a contact could use
+            a, b, deg = self._steep(part)
+            ends = self.s[part][[0, -1]] * 1e3
+            out.append(f"wheel {name}: s = {ends[0]:.2f} .. {ends[1]:.2f} mm ({side} side) is not "
+                       f"used for contact: it lies beyond s = {a:.2f} .. {b:.2f} mm, steeper "
+                       f"than {self.limit_deg:g} deg (up to {deg:.1f} deg); the usable profile "
+                       f"is s = {self.s[self.lo] * 1e3:.2f} .. {self.s[self.hi] * 1e3:.2f} mm")
+        return out
+
+
+@dataclass(frozen=True, eq=False)
 class WheelGeometry:
     """A wheel: profile ``dr(s)``, nominal radius ``r0``, tape-circle distance ``d``.
 
@@ -230,16 +306,13 @@ class WheelGeometry:
             raise GeometryError(
                 f"wheel {profile.name}: the tape circle s = 0 is outside the profile"
             )
-        s = np.linspace(
-            profile.y_min, profile.y_max, max(int((profile.y_max - profile.y_min) / _SAMPLE), 200)
-        )
-        slope = profile.slope(s)
-        lo, hi = _contiguous_slope_range(
-            slope, int(np.argmin(np.abs(s))), np.tan(np.radians(max_slope_deg))
-        )
-        return cls(
-            profile=profile, r0=float(r0), d=float(d), s_min=float(s[lo]), s_max=float(s[hi])
-        )
+        cut = WheelCut.of(profile, max_slope_deg)
+        if cut.tip_dropped:
+            raise GeometryError(cut.tip_message(profile.name))
+        for text in cut.drop_messages(profile.name):
+            log.warning("%s", text)
+        return cls(profile=profile, r0=float(r0), d=float(d), s_min=float(cut.s[cut.lo]),
+                   s_max=float(cut.s[cut.hi]))
 
     def radius(self, s: np.ndarray | float) -> np.ndarray:
         return self.r0 + self.profile.z_at(s)
