@@ -8,7 +8,7 @@ from __future__ import annotations
 from lutmpi.config.model import SIDE_NAMES, Config
 from lutmpi.contact.stiffness import paper_flange_chi
 from lutmpi.equilibrium.solver import EquilibriumOptions
-from lutmpi.errors import ConfigError, ProfileError
+from lutmpi.errors import ConfigError, GeometryError, ProfileError
 from lutmpi.profiles.model import Profile
 from lutmpi.profiles.options import ReadOptions
 from lutmpi.scene import Scene, SolveSettings
@@ -48,7 +48,6 @@ def solve_settings(cfg: Config) -> SolveSettings:
 def scene_from_config(cfg: Config) -> Scene:
     """Load/generate the profiles of ``cfg`` for each side, apply its wear and reading options,
     and build the scene. Sides whose resolved keys are equal share one profile (mirrored)."""
-    m = cfg.mesh
     wheels, rails = side_profiles(cfg)
     r0, d, inc, depth, gv = {}, {}, {}, {}, {}
     for name in SIDE_NAMES:
@@ -62,6 +61,33 @@ def scene_from_config(cfg: Config) -> Scene:
                             f"rail.{name}.gauge_point"
                             if getattr(cfg.rail, name).gauge_point is not None
                             else "rail.gauge_point")
+    try:
+        return _scene(cfg, wheels, rails, r0, d, inc, depth, gv)
+    except GeometryError as exc:   # a placement the config's keys cannot give: name the key
+        raise ConfigError(str(exc), key=_placement_key(cfg, wheels, rails, str(exc)),
+                          path=None if cfg.path is None else str(cfg.path)) from None
+
+
+def _placement_key(cfg: Config, wheels: dict, rails: dict, message: str) -> str | None:
+    """The config key that set what a placement error (``rail NAME: ...`` / ``wheel NAME:
+    ...``) is about: a rail's gauge point or gauge depth, or the wheel's profile."""
+    for name in SIDE_NAMES:
+        own_rail, rc = getattr(cfg.rail, name), cfg.rail.side(name)
+        if message.startswith(f"rail {rails[name].name}:"):
+            if rc.gauge_point != "depth":
+                return f"rail.{name}.gauge_point" if own_rail.gauge_point is not None \
+                    else "rail.gauge_point"
+            if own_rail.gauge_depth_mm is not None:
+                return f"rail.{name}.gauge_depth_mm"
+            return "rail.gauge_depth_mm" if rc.gauge_depth_mm is not None \
+                else "track.gauge_depth_mm"
+        if message.startswith(f"wheel {wheels[name].name}:"):
+            return _source_key(cfg.wheel, "wheel", name)
+    return None
+
+
+def _scene(cfg: Config, wheels, rails, r0, d, inc, depth, gv) -> Scene:
+    m = cfg.mesh
     return Scene.from_profiles(
         wheels, rails, r0=r0, tape_half_distance=d, inclination=inc,
         gauge=cfg.track.gauge_mm * 1e-3, gauge_depth=depth, gauge_v=gv,

@@ -21,6 +21,7 @@ from lutmpi.errors import ConfigError
 from lutmpi.pose.solve import solve_pose
 from lutmpi.profiles.standard import s1002, uic60
 from lutmpi.scene import Scene
+from lutmpi.scene_config import scene_from_config
 
 MM = 1e-3
 PROFILES = Path(__file__).resolve().parents[2] / "profiles"
@@ -250,3 +251,19 @@ def test_per_side_wear():
         _cfg({"wheel": {"generator": "S1002"}, "rail": {"generator": "UIC60"},
               "wear": {"wheel": {"left": {"flange_thinning_mm": 99.0}}}})
     assert err.value.key == "wear.wheel.left.flange_thinning_mm"
+
+
+@pytest.mark.parametrize(("extra", "key"), [
+    ({}, "track.gauge_depth_mm"),
+    ({"rail": {"gauge_depth_mm": 14.0}}, "rail.gauge_depth_mm"),
+    ({"rail": {"left": {"gauge_depth_mm": 14.0}}}, "rail.left.gauge_depth_mm"),
+])
+def test_a_rail_without_a_gauge_point_names_the_key_that_set_the_depth(extra, key):
+    # hostile tester's F5(a): the error named neither the config file nor the key
+    rail = {"profile": str(PROFILES / "avg_low2.ban"), "inclination": "1:40",
+            **extra.get("rail", {})}
+    cfg = config_from_dict({"wheel": {"generator": "S1002"}, "rail": rail},
+                           path="/x/low2.toml")
+    with pytest.raises(ConfigError, match="no gauge point") as err:
+        scene_from_config(cfg)
+    assert err.value.key == key and "/x/low2.toml" in str(err.value)
