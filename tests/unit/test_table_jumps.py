@@ -1042,3 +1042,51 @@ def test_a_jump_the_refinement_finds_is_reflected_into_the_image_column():
         if mirror is not None:
             assert all(yaw <= 0.0 for _, yaw in calls)
     assert counts[False] < counts[True]
+
+
+def test_a_measured_worn_flange_step_no_cell_shows_is_in_the_table(tmp_path):
+    """The hostile tester's pair (the README's asymmetric example: measured worn wheels
+    Car7216 / Car7358 on the Manchester rail / a worn rail), yaw 0.05 rad, 1 mm grid: on the
+    left flange the contact runs ~1.9 mm per mm of y and steps by 0.85 mm at y = 5.2495 mm
+    (rolling radius +1.4 mm), in a cell no candidate rule flags. The table now holds a jump
+    there, and `query` agrees with `solve` beside it (the rolling radius was 0.79 mm off at
+    5.24 mm, z_g 49 um)."""
+    from lutmpi.pose.solve import solve_pose
+    from lutmpi.scene import Scene
+    from lutmpi.table import Table
+
+    prof = REPO_ROOT / "profiles"
+    cfg = tmp_path / "asym.toml"
+    cfg.write_text(f"""
+[wheel.left]
+profile = "{prof / 'Car7216_0001r.whl'}"
+[wheel.right]
+profile = "{prof / 'Car7358_0001r.whl'}"
+nominal_radius_mm = 459.0
+[rail.left]
+profile = "{prof / 'MBench_UIC60_v3.prr'}"
+inclination = "none"
+[rail.right]
+profile = "{prof / 'rail_left_iter288.ban'}"
+inclination = "none"
+[grid]
+y_mm = [3.0, 7.0, 5]
+yaw_rad = [0.05, 0.05, 1]
+[contact]
+method = "reference"
+""")
+    out = tmp_path / "a.h5"
+    assert main(["build", str(cfg), "-o", str(out)]) == 0
+    table = Table.open(out)
+    jy = table.jump_positions()[0]
+    jy = jy[np.isfinite(jy)]
+    assert np.abs(jy - 5.2495e-3).min() < 20e-6, jy * 1e3
+    scene = Scene.from_config(load_config(cfg))
+    y = np.array([5.10, 5.20, 5.24, 5.255, 5.28, 5.40]) * 1e-3
+    assert np.abs(y[:, None] - jy[None, :]).min() > 5e-6
+    q = table.interp(y, np.full(y.size, 0.05))
+    for i, yi in enumerate(y):
+        r = solve_pose(scene, float(yi), 0.05, "reference")
+        left = r.contacts["left"][0]                      # the reference's touching contact
+        assert abs(q["rolling_radius"][i][0, 0] - left.rolling_radius) < 20e-6, yi
+        assert abs(q["z_g"][i] - r.z_g) < 2e-6, yi
