@@ -78,6 +78,25 @@ def test_single_point_spike_on_a_tread_is_an_error_naming_its_line(tmp_path, rep
         read_profile(path)
 
 
+def test_a_half_millimetre_glitch_on_a_measured_tread_is_a_spike(tmp_path, repo_root):
+    """A hostile tester's case: one point of Car7216's tread (MiniProf, 0.25 mm spacing)
+    raised by 0.5 mm. Smoothed, it was a 0.21 mm bump 3.8 mm wide that a contact moved onto;
+    now the file is refused at that line. Every measured and benchmark file of the repository
+    still reads (none has a point with both sides that steep in opposite directions)."""
+    for src in sorted((repo_root / "profiles").glob("*.*")):
+        if src.suffix != ".md":
+            read_profile(src)
+    src = repo_root / "profiles" / "Car7216_0001r.whl"
+    lines = src.read_text().splitlines()
+    line = 1 + next(k for k, t in enumerate(lines) if t.startswith("79.9392"))  # s ~ +9.9 mm
+    a, b, *rest = lines[line - 1].split()
+    lines[line - 1] = " ".join([a, f"{float(b) + 0.5:.3f}", *rest])
+    path = tmp_path / "glitch.whl"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ProfileError, match=rf"glitch\.whl:{line}: .* single-point spike, 0\.5"):
+        read_profile(path)
+
+
 def test_a_step_in_exact_data_warns_naming_its_lines(tmp_path, caplog):
     """A rail head ``z = -y^2 / 200`` (mm) written every 0.5 mm with the points from y = 2 mm
     on lowered by 0.3 mm, read as exact (plain text: the interpolating spline). Beside the
