@@ -178,12 +178,38 @@ def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
     return evaluate
 
 
+def _extrapolation_touches(locus, y: float, yaw: float, q: np.ndarray,
+                           q_star: np.ndarray) -> bool:
+    """Whether the zero-indentation extrapolation ``q_star`` of the penalty pose ``q`` (z_g,
+    roll; m, rad) is one: the larger of the wheels' rigid gaps there (each wheel's touching
+    height from its whole locus, :meth:`~lutmpi.contact.locus.LocusSolver.heights`, against
+    z_g) at most 3/4 of that at ``q``, plus 1 um (on the paper's and the Manchester grids,
+    37 x 37, it falls from ~10 um to under 1 um at most poses, and to 6.4 um from 10.7 um at
+    the worst). The extrapolation is one linear solve
+    ``q* = q - J^-1 F_c``; where the two wheels' touching heights move nearly in parallel
+    with the roll (a flat height mismatch, next to a fold where a tread and a flange root
+    meet), J is nearly singular and the step runs off: on a measured worn flange (Car7216 on
+    the Manchester rail, y = 4.757 mm, yaw 0) it moved z_g by 0.75 mm and the roll by 1 mrad
+    to a pose 119 um above the rail, while the penalty pose was 28 um into it."""
+    zl0, zr0 = locus.heights(y, yaw, float(q[1]))
+    zl1, zr1 = locus.heights(y, yaw, float(q_star[1]))
+    before = max(abs(float(q[0]) - zl0), abs(float(q[0]) - zr0))
+    after = max(abs(float(q_star[0]) - zl1), abs(float(q_star[0]) - zr1))
+    return bool(after <= 0.75 * before + 1e-6)
+
+
 def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResult:
     eq = scene.equilibrium
     z, roll = float(out.q[0]), float(out.q[1])
     gy, gz = float(rigid.y), z  # G of the solved pose: the contacts' lever arms
+    kept = ""
     if out.q_extrapolated is not None:
-        z, roll = float(out.q_extrapolated[0]), float(out.q_extrapolated[1])
+        if _extrapolation_touches(scene.locus, rigid.y, rigid.yaw, out.q, out.q_extrapolated):
+            z, roll = float(out.q_extrapolated[0]), float(out.q_extrapolated[1])
+        else:
+            kept = ("; the pose at the final k_c, not extrapolated to zero indentation (the "
+                    "extrapolation did not bring the wheels nearer to touching their rails: "
+                    "an ill-conditioned roll)")
     # eq. (1)'s spring loads from the contact forces, summed in Python floats (the same
     # operations as on numpy vectors, without their per-call cost)
     F = [0.0, 0.0, 0.0]
@@ -197,7 +223,7 @@ def _pose_from_equilibrium(scene, rigid: RigidSolution, method, out) -> PoseResu
         roll=roll,
         success=out.success,
         status=out.status,
-        message=out.message,
+        message=out.message + kept,
         nit=out.nit,
         kc=out.kc,
         indentation=out.indentation,

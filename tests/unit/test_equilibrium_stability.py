@@ -99,3 +99,48 @@ def test_contact_points_independent_of_kc(inc):
           f"z_g by <= {worst_z * 1e6:.3f} um")
     assert worst_p < 1.5 * 0.25 * MM
     assert worst_z < 5e-6
+
+
+def test_an_ill_conditioned_extrapolation_is_not_stored():
+    """Next to a fold of the rigid roots (a tread and a flange root meeting) the two wheels'
+    touching heights move nearly in parallel with the roll, the equilibrium's Jacobian is
+    nearly singular, and the zero-indentation extrapolation ran off: on the measured worn
+    Car7216 (left) against the Manchester rail, y = 4.757 mm, yaw 0, the load centre stored a
+    pose 0.75 mm higher and 1 mrad further rolled than its penalty solution, with the left
+    wheel 119 um above its rail and a 5 um, 156 kN "contact" on it. The stored pose now keeps
+    each wheel within the allowed indentation's vertical reach of its rail (rigid gaps from
+    the whole loci), says why it was not extrapolated, and the poses beside it still are."""
+    import tempfile
+    from pathlib import Path
+
+    from lutmpi.config import load_config
+    from lutmpi.paths import REPO_ROOT
+    from lutmpi.scene import Scene
+
+    prof = REPO_ROOT / "profiles"
+    text = f"""
+[wheel.left]
+profile = "{prof / 'Car7216_0001r.whl'}"
+[wheel.right]
+profile = "{prof / 'Car7358_0001r.whl'}"
+nominal_radius_mm = 459.0
+[rail.left]
+profile = "{prof / 'MBench_UIC60_v3.prr'}"
+inclination = "none"
+[rail.right]
+profile = "{prof / 'rail_left_iter288.ban'}"
+inclination = "none"
+"""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "asym.toml"
+        path.write_text(text)
+        cfg = load_config(path)
+    scene = Scene.from_config(cfg)
+    reach = cfg.contact.allowed_indentation_mm * MM / math.cos(math.radians(73.0)) + 2e-6
+    for y, kept in ((4.757, True), (4.759, True), (4.749, False), (5.0, False)):
+        r = solve_pose(scene, y * MM, 0.0, "load_centre")
+        assert r.status == CONVERGED
+        zl, zr = scene.locus.heights(y * MM, 0.0, r.roll)
+        gaps = (r.z_g - zl, r.z_g - zr)
+        assert max(abs(g) for g in gaps) <= reach, (y, gaps)
+        assert ("not extrapolated" in r.message) == kept, (y, r.message)
