@@ -585,7 +585,10 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
         Besides the sign changes between scan points, the last finite point before every NaN
         range is found by bisection (a root can sit between a scan point and a NaN range, on
         either side of roll 0), and every dip of ``|h|`` toward zero between scan points is
-        searched for its extremum (two close roots can hide between two scan points).
+        searched for its extremum (two close roots can hide between two scan points); where
+        ``h`` folds beside a sign change (:func:`~lutmpi.contact.rigid_kernels.
+        bracket_searches`: three roots within a scan step) the two steps next to the fold are
+        scanned at a quarter step first (``hfun`` at six more rolls).
     """
     x = np.ascontiguousarray(x, dtype=float)
     h = np.ascontiguousarray(hfun(x) if h is None else h, dtype=float)
@@ -594,7 +597,18 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
     if extremum is None:
         extremum = partial(_extremum_by, hfun)
     # compiled: which NaN edges and dips need a search, and the brackets of all the points
-    edges, dips = rk.bracket_searches(x, h, float(lip))
+    edges, dips, folds = rk.bracket_searches(x, h, float(lip))
+    if folds.size and hfun is not None:
+        # a fold beside a sign change: both steps next to it scanned at a quarter step, and
+        # the searches then run on the finer scan (its sign changes and dips)
+        xs = np.unique(np.array([x[i] + f * (x[i + d] - x[i]) for i in folds.tolist()
+                                 for d in (-1, 1) for f in (0.25, 0.5, 0.75)]))
+        xs = xs[np.searchsorted(x, xs) == np.searchsorted(x, xs, "right")]  # new rolls only
+        x2 = np.concatenate([x, xs])
+        h2 = np.concatenate([h, np.asarray(hfun(xs), dtype=float)])
+        order = np.argsort(x2, kind="stable")
+        x, h = np.ascontiguousarray(x2[order]), np.ascontiguousarray(h2[order])
+        edges, dips, _ = rk.bracket_searches(x, h, float(lip))
     extra = [edge(a, b, n_bisect) for a, b in edges.tolist()]
     for i in dips.tolist():
         sgn = 1.0 if h[i] > 0 else -1.0

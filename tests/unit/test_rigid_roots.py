@@ -69,6 +69,28 @@ def test_two_roots_inside_one_scan_step():
     assert br[0][0] <= 0.0031 <= br[0][1] and br[1][0] <= 0.0033 <= br[1][1]
 
 
+def test_three_roots_within_one_scan_step_beside_a_sign_change():
+    """Three roots within about one scan step (a tread and a flange root with the unstable
+    one between, as where a measured worn flange's contact takes over): the scan points
+    around them see e.g. +, +small, - and the sign change alone gives one root. At the fold
+    (the chords beside the small point differ in slope by far more than FOLD_RATIO) the two
+    steps beside it are scanned at a quarter step, and all three roots are bracketed with
+    their stability, for each shift of the roots against the 0.5 mrad scan (1.43, 1.58 and
+    1.86 mrad, then a quarter step further each time: the roots straddle a scan point, or
+    all three lie between two points of opposite sign)."""
+    for shift in (0.0, 1.25e-4, 2.5e-4, 3.75e-4):
+        roots = np.array([1.43e-3, 1.58e-3, 1.86e-3]) + shift
+
+        def h(r, roots=roots):
+            return -2e6 * (r - roots[0]) * (r - roots[1]) * (r - roots[2])
+
+        br = find_brackets(GRID, h)
+        assert len(br) == 3, (shift, br)
+        assert [b[2] for b in br] == [True, False, True]
+        for (a, b, _), r in zip(br, roots, strict=True):
+            assert a <= r <= b
+
+
 def test_bracket_assembly_equals_the_list_form():
     # find_brackets' last step is vectorised (issue 14); its former list form is the oracle, on
     # random scans with NaN ranges, exact zeros and the points the edge and dip searches add
@@ -164,6 +186,40 @@ def test_three_rigid_roots_counted_and_the_lowest_stable_chosen(thinned_scene):
     # (or both are within 0.1 um of the root: far below the 5-10 um allowed indentations, where
     # which mesh lands closer is the mesh's luck, not convergence)
     assert abs(lf.z_g - ref.z_g) <= max(abs(lc.z_g - ref.z_g), 1e-4 * MM)
+
+
+def test_a_fold_of_three_roots_on_a_measured_worn_flange_is_resolved(tmp_path):
+    """The hostile tester's asymmetric measured pair (Car7216 left on the Manchester rail,
+    Car7358 right on a worn rail), y = 4.749 mm, yaw 0: h has roots at 1.43 (tread), 1.58
+    (unstable) and 1.86 mrad (flange) within one 0.5 mrad scan step; the scan saw h = +420,
+    +1.4, -17.5 um at 1.116, 1.616, 2.116 mrad and the solver found only the flange root,
+    0.33 mm higher than the tread root. All three are found now, and the one chosen is the
+    brute-force planar oracle's global minimum of max(z_left, z_right)."""
+    prof = PROFILES
+    cfg = tmp_path / "asym.toml"
+    cfg.write_text(f"""
+[wheel.left]
+profile = "{prof / 'Car7216_0001r.whl'}"
+[wheel.right]
+profile = "{prof / 'Car7358_0001r.whl'}"
+nominal_radius_mm = 459.0
+[rail.left]
+profile = "{prof / 'MBench_UIC60_v3.prr'}"
+inclination = "none"
+[rail.right]
+profile = "{prof / 'rail_left_iter288.ban'}"
+inclination = "none"
+""")
+    scene = Scene.from_config(load_config(cfg))
+    y = 4.749 * MM
+    rig = scene.locus.solve(y, 0.0)
+    roots, roll_min, z_min = _oracle(scene, y, half=0.005, n=5001)
+    assert len(roots) == 3 and rig.n_roots == 3
+    assert [q.stable for q in rig.roots] == [True, False, True]
+    # the oracle samples the profiles every 0.05 mm and h is nearly flat at the flange root:
+    # the tolerances of the thinned wheel's three roots above
+    assert np.allclose([q.roll for q in rig.roots], roots, atol=2e-5)
+    assert abs(rig.roll - roll_min) < 2e-5 and abs(rig.z_g - z_min) < 1e-6
 
 
 def test_compiled_searches_equal_the_python_ones_to_the_bit(thinned_scene):
