@@ -19,6 +19,7 @@ import numpy as np
 from lutmpi.contact.locus import LocusSampling, LocusSolver
 from lutmpi.contact.mesh import RailMesh, WheelMesh
 from lutmpi.equilibrium.solver import EquilibriumOptions
+from lutmpi.errors import GeometryError
 from lutmpi.geometry.track import SIDES, PlacedRail, WheelGeometry
 from lutmpi.profiles.model import Profile
 
@@ -119,23 +120,25 @@ class Scene:
         per = {k: _per_side(v) for k, v in dict(
             wheel=wheel, rail=rail, r0=r0, d=tape_half_distance, inc=inclination,
             depth=gauge_depth, gv=gauge_v).items()}
-        wheels = {"left": WheelGeometry.place(per["wheel"]["left"], per["r0"]["left"],
-                                              per["d"]["left"])}
-        rails = {"left": PlacedRail.place(per["rail"]["left"], per["inc"]["left"], gauge,
-                                          per["depth"]["left"], gauge_v=per["gv"]["left"])}
+        wheels = {"left": _on_side("left", WheelGeometry.place, per["wheel"]["left"],
+                                   per["r0"]["left"], per["d"]["left"])}
+        rails = {"left": _on_side("left", PlacedRail.place, per["rail"]["left"],
+                                  per["inc"]["left"], gauge, per["depth"]["left"],
+                                  gauge_v=per["gv"]["left"])}
         # a mirrored right side shares the left side's objects
         if all(per[k]["right"] is per[k]["left"] or per[k]["right"] == per[k]["left"]
                for k in ("r0", "d")) and per["wheel"]["right"] is per["wheel"]["left"]:
             wheels["right"] = wheels["left"]
         else:
-            wheels["right"] = WheelGeometry.place(per["wheel"]["right"], per["r0"]["right"],
-                                                  per["d"]["right"])
+            wheels["right"] = _on_side("right", WheelGeometry.place, per["wheel"]["right"],
+                                       per["r0"]["right"], per["d"]["right"])
         if all(per[k]["right"] == per[k]["left"] for k in ("inc", "depth", "gv")) \
                 and per["rail"]["right"] is per["rail"]["left"]:
             rails["right"] = rails["left"]
         else:
-            rails["right"] = PlacedRail.place(per["rail"]["right"], per["inc"]["right"], gauge,
-                                              per["depth"]["right"], gauge_v=per["gv"]["right"])
+            rails["right"] = _on_side("right", PlacedRail.place, per["rail"]["right"],
+                                      per["inc"]["right"], gauge, per["depth"]["right"],
+                                      gauge_v=per["gv"]["right"])
         locus = LocusSolver(wheels, rails, ds=locus_ds, double_tol=eq.allowed_indentation,
                             max_contacts=st.max_contacts, hold_roll=st.hold_roll)
         meshes: dict[int, object] = {}
@@ -166,3 +169,13 @@ def _per_side(value: T | Mapping[str, T]) -> dict[str, T]:
         return dict(value)
     return {name: value for name in SIDES}
 
+
+def _on_side(side: str, place, *args, **kw):
+    """``place(*args, **kw)`` (a wheel's or a rail's placement); a :class:`GeometryError` it
+    raises carries ``side`` (``"left"``/``"right"``), so that an error of two sides with one
+    profile file names the side's own config key (:func:`lutmpi.scene_config.scene_from_config`)."""
+    try:
+        return place(*args, **kw)
+    except GeometryError as exc:
+        exc.side = side
+        raise

@@ -64,14 +64,17 @@ def scene_from_config(cfg: Config) -> Scene:
     try:
         return _scene(cfg, wheels, rails, r0, d, inc, depth, gv)
     except GeometryError as exc:   # a placement the config's keys cannot give: name the key
-        raise ConfigError(str(exc), key=_placement_key(cfg, wheels, rails, str(exc)),
+        raise ConfigError(str(exc), key=_placement_key(cfg, wheels, rails, str(exc),
+                                                       getattr(exc, "side", None)),
                           path=None if cfg.path is None else str(cfg.path)) from None
 
 
-def _placement_key(cfg: Config, wheels: dict, rails: dict, message: str) -> str | None:
+def _placement_key(cfg: Config, wheels: dict, rails: dict, message: str,
+                   side: str | None = None) -> str | None:
     """The config key that set what a placement error (``rail NAME: ...`` / ``wheel NAME:
-    ...``) is about: a rail's gauge point or gauge depth, or the wheel's profile."""
-    for name in SIDE_NAMES:
+    ...``) is about: a rail's gauge point or gauge depth, or the wheel's profile; ``side``:
+    the side whose placement raised it, when known (two sides can read one file)."""
+    for name in (side,) if side in SIDE_NAMES else SIDE_NAMES:
         own_rail, rc = getattr(cfg.rail, name), cfg.rail.side(name)
         if message.startswith(f"rail {rails[name].name}:"):
             if rc.gauge_point != "depth":

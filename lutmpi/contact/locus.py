@@ -423,8 +423,9 @@ class LocusSolver:
                                  f"|roll| <= {self.roll_max:.3g} rad (a wheel misses its rail)",
                                  nit)
         chosen = _choose(roots, -1.0 if y < 0.0 or (y == 0.0 and yaw < 0.0) else 1.0)
-        if local is not None and _same(local, chosen.roll, self.scan_rolls):
-            roll = local
+        if (local is not None and _same(local, chosen.roll, self.scan_rolls)
+                and min(roots, key=lambda q: abs(q.roll - local)) is chosen):
+            roll = local  # (not where a root nearer to it is another: three within a step)
         else:
             roll = chosen.roll
         out = self.finish(y, yaw, roll, nit)

@@ -596,7 +596,7 @@ def bracket_searches(x, h, lip):
     :data:`FOLD_RATIO`). Where three roots meet within a scan step (a tread and a flange root
     with the unstable one between) the sign change alone gives one of them, and the other two
     hide on either side of ``i`` (a measured worn flange, Car7216 on the Manchester rail,
-    y = 4.749 mm: roots at 1.43, 1.58 and 1.86 mrad, the scan's points at 1.116, 1.616 and
+    y = 4.749 mm: roots at 1.41, 1.58 and 1.86 mrad, the scan's points at 1.116, 1.616 and
     2.116 mrad with ``h`` +420, +1.4 and -17.5 um). Returns ``(edges (m, 2), dips (k,),
     folds (p,))``."""
     n = x.size

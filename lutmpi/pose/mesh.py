@@ -6,11 +6,12 @@ contact stage, and the pose result. Shared by every :class:`~lutmpi.contact.meth
 from __future__ import annotations
 
 import logging
+import math
 import time
 
 import numpy as np
 
-from lutmpi.contact.locus import RigidSolution
+from lutmpi.contact.locus import LocusSolver, RigidSolution
 from lutmpi.contact.mesh import Window, build_window
 from lutmpi.contact.records import SIDE_SIGN, contact_records
 from lutmpi.contact.rigid_kernels import rotation
@@ -178,7 +179,7 @@ def _evaluator(scene, wins: dict[str, Window], method, rigid: RigidSolution):
     return evaluate
 
 
-def _extrapolation_touches(locus, y: float, yaw: float, q: np.ndarray,
+def _extrapolation_touches(locus: LocusSolver, y: float, yaw: float, q: np.ndarray,
                            q_star: np.ndarray) -> bool:
     """Whether the zero-indentation extrapolation ``q_star`` of the penalty pose ``q`` (z_g,
     roll; m, rad) is one, judged by the rigid geometry: each wheel's gap there (its touching
@@ -192,9 +193,13 @@ def _extrapolation_touches(locus, y: float, yaw: float, q: np.ndarray,
     with the roll (a flat height mismatch, next to a fold where a tread and a flange root
     meet), J is nearly singular and the step runs off: on a measured worn flange (Car7216 on
     the Manchester rail, y = 4.757 mm, yaw 0) it moved z_g by 0.75 mm and the roll by 1 mrad
-    to a pose 119 um above the rail, while the penalty pose was 28 um into it."""
+    to a pose 119 um above the rail, while the penalty pose was 28 um into it. Not kept where
+    a wheel has no point over its rail at either pose (a height not finite), on either side
+    alike."""
     zl0, zr0 = locus.heights(y, yaw, float(q[1]))
     zl1, zr1 = locus.heights(y, yaw, float(q_star[1]))
+    if not all(math.isfinite(v) for v in (zl0, zr0, zl1, zr1)):
+        return False
     before = max(abs(float(q[0]) - zl0), abs(float(q[0]) - zr0))
     after = max(abs(float(q_star[0]) - zl1), abs(float(q_star[0]) - zr1))
     dz, dr = float(q_star[0] - q[0]), float(q_star[1] - q[1])

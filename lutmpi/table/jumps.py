@@ -587,11 +587,14 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
     if miss > 1.0 and (parent is None
                        or _miss(knots, xm, rm, parent[1]) < REFINE_GAIN * parent[0]):
         here = (miss, tols)
-        out = (refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, here, scale,
+        n_found = len(found) if found is not None else 0
+        left = refine_interval(x0, r0, xm, rm, yaw, solve, min_width, mesh, here, scale,
                                (outer[0], (x1, r1)), found, iyaw)
-               + out
+        # a jump just found left of xm: x0 lies across it, no neighbour of the right half's
+        near = (x0, r0) if found is None or len(found) == n_found else None
+        out = (left + out
                + refine_interval(xm, rm, x1, r1, yaw, solve, min_width, mesh, here, scale,
-                                 ((x0, r0), outer[1]), found, iyaw))
+                                 (near, outer[1]), found, iyaw))
     elif (miss > 1.0 and found is not None
           and classify(_keys(r0), _keys(r1), CONFIRM_M)[0]):
         # the miss did not fall by halving, and the contact moved: a step, not a curvature
@@ -624,6 +627,10 @@ def _split(x0: float, r0: Record, x1: float, r1: Record, mid: Knot, yaw: float,
                         MAX_PER_CELL - len(here), samples)
     if not here:
         return sorted(samples, key=lambda p: p[0])
+    if len(here) >= MAX_PER_CELL:
+        log.warning("%d jumps between y = %.4f and %.4f mm at yaw %.4g rad found by the "
+                    "refinement, its search's limit: located in part (the table may "
+                    "interpolate across others there)", len(here), x0 * 1e3, x1 * 1e3, yaw)
     here.sort(key=lambda jp: jp.lo)
     found.extend(here)
     kept = sorted((p for p in samples if not any(jp.lo < p[0] < jp.hi for jp in here)),
@@ -652,9 +659,29 @@ def refine_item(iyaw: int, x0: float, r0: Record, x1: float, r1: Record, yaw: fl
                 outer: tuple[Knot | None, Knot | None] = (None, None)
                 ) -> tuple[list[Jump], list[tuple[float, Record]]]:
     """One refinement interval of column ``iyaw`` (:func:`refinement_plan`'s item):
-    :func:`refine_interval` with the jumps it finds kept. Returns ``(jumps, samples)`` sorted
-    by y, the shape of :func:`refine_cell`'s result (and reflected as it is:
-    :meth:`Mirror.cell_result`)."""
+    :func:`refine_interval` with the jumps it finds kept.
+
+    Parameters
+    ----------
+    iyaw : int
+        The interval's yaw column (the jumps' ``iyaw``).
+    x0, r0, x1, r1 : float, dict
+        The interval's ends (y, m) and their records.
+    yaw : float
+        The column's yaw, rad.
+    solve : callable
+        ``solve(y, yaw) -> record``, the table's own method.
+    mesh, scale, outer
+        As :func:`refine_interval` takes them.
+
+    Returns
+    -------
+    jumps : list of Jump
+        Sorted by y.
+    samples : list of (float, dict)
+        The poses solved and kept as knots ``(y, record)``, sorted by y: the shape of
+        :func:`refine_cell`'s result, and reflected as it is (:meth:`Mirror.cell_result`).
+    """
     found: list[Jump] = []
     knots = refine_interval(x0, r0, x1, r1, yaw, solve, mesh=mesh, scale=scale, outer=outer,
                             found=found, iyaw=iyaw)

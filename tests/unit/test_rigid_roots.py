@@ -190,7 +190,7 @@ def test_three_rigid_roots_counted_and_the_lowest_stable_chosen(thinned_scene):
 
 def test_a_fold_of_three_roots_on_a_measured_worn_flange_is_resolved(tmp_path):
     """The hostile tester's asymmetric measured pair (Car7216 left on the Manchester rail,
-    Car7358 right on a worn rail), y = 4.749 mm, yaw 0: h has roots at 1.43 (tread), 1.58
+    Car7358 right on a worn rail), y = 4.749 mm, yaw 0: h has roots at 1.41 (tread), 1.58
     (unstable) and 1.86 mrad (flange) within one 0.5 mrad scan step; the scan saw h = +420,
     +1.4, -17.5 um at 1.116, 1.616, 2.116 mrad and the solver found only the flange root,
     0.33 mm higher than the tread root. All three are found now, and the one chosen is the

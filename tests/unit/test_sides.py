@@ -257,12 +257,17 @@ def test_per_side_wear():
     ({}, "track.gauge_depth_mm"),
     ({"rail": {"gauge_depth_mm": 14.0}}, "rail.gauge_depth_mm"),
     ({"rail": {"left": {"gauge_depth_mm": 14.0}}}, "rail.left.gauge_depth_mm"),
+    # both rails one file, the track's 10 mm found on it: the right side's own 14 mm is not
+    # (a reviewer's find: the key named the left side's, which works)
+    ({"track": {"gauge_depth_mm": 10.0}, "rail": {"right": {"gauge_depth_mm": 14.0}}},
+     "rail.right.gauge_depth_mm"),
 ])
 def test_a_rail_without_a_gauge_point_names_the_key_that_set_the_depth(extra, key):
     # hostile tester's F5(a): the error named neither the config file nor the key
     rail = {"profile": str(PROFILES / "avg_low2.ban"), "inclination": "1:40",
             **extra.get("rail", {})}
-    cfg = config_from_dict({"wheel": {"generator": "S1002"}, "rail": rail},
+    cfg = config_from_dict({"wheel": {"generator": "S1002"}, "rail": rail,
+                            **({"track": extra["track"]} if "track" in extra else {})},
                            path="/x/low2.toml")
     with pytest.raises(ConfigError, match="no gauge point") as err:
         scene_from_config(cfg)

@@ -1090,3 +1090,55 @@ method = "reference"
         left = r.contacts["left"][0]                      # the reference's touching contact
         assert abs(q["rolling_radius"][i][0, 0] - left.rolling_radius) < 20e-6, yi
         assert abs(q["z_g"][i] - r.z_g) < 2e-6, yi
+
+
+
+def test_a_jump_the_refinement_finds_is_reflected_onto_the_other_wheel():
+    """A symmetric pair (each wheel the other's image in y): the left wheel's contact runs
+    fast along its flange and steps at +at, the right wheel's at -at. On a grid symmetric in y
+    and yaw the refinement's intervals for y < 0 are the images of those for y > 0 with the
+    wheels swapped (``Mirror`` with ``symmetric_pair``): the jump found at +at (left wheel)
+    is stored at -at too, on the right wheel (side bit 2), its bracket's ends swapped, with
+    the same jumps as a direct run (no mirror) and fewer solves."""
+    at, rate, step = 1.234e-3, 1.9, 0.85e-3
+
+    def g(y: float) -> float:
+        return -0.04 - rate * y - (step if y >= at else 0.0)
+
+    def pair(y: float, yaw: float) -> dict[str, np.ndarray]:
+        rec = {f.name: f.empty((1,))[0] for f in FLDS}
+        rec["status"] = np.int8(CONVERGED)
+        rec["n_contacts"] = np.array([1, 1], np.int8)
+        rec["z_g"] = np.float64(0.46 + 0.1 * y * y)
+        s_l, s_r = g(y), g(-y)
+        rec["wheel_s"][:, 0] = [s_l, s_r]
+        rec["rail_v"][:, 0] = [-0.03 - 0.2 * y, -0.03 + 0.2 * y]
+        rec["rolling_radius"][:, 0] = [0.478 - s_l, 0.478 - s_r]
+        return rec
+
+    y_axis, yaw_axis = np.linspace(-4e-3, 4e-3, 17), np.array([0.0])
+    arrays = _column(pair, y_axis)
+    assert tj.candidate_cells(arrays) == []
+    got = {}
+    for mirror in (None, tj.Mirror.of(y_axis, yaw_axis, True)):
+        calls: list[float] = []
+
+        def solve(y: float, yaw: float, calls: list = calls) -> dict[str, np.ndarray]:
+            calls.append(y)
+            return pair(y, yaw)
+
+        js = tj.locate_jumps(arrays, y_axis, yaw_axis, solve, FLDS, mirror=mirror)
+        got[mirror is None] = (js, len(calls))
+    (direct, n_direct), (mirrored, n_mirrored) = got[True], got[False]
+    assert n_mirrored < n_direct
+    for js in (direct, mirrored):
+        assert js.count.tolist() == [2]
+        lo, hi = js.arrays["jump_y_lo"][0, :2], js.arrays["jump_y_hi"][0, :2]
+        assert lo[0] < -at + 1e-12 and -at - 1e-12 <= hi[0] and lo[1] < at <= hi[1]
+        assert (hi - lo).max() <= tj.TOL_M
+        assert js.arrays["jump_side"][0, :2].tolist() == [2, 1]
+    np.testing.assert_allclose(mirrored.arrays["jump_y"], direct.arrays["jump_y"], atol=1e-15)
+    # the one-sided limits are the branches: below -at the right wheel is past its step
+    lo, hi = mirrored.arrays["jump_y_lo"][0, 0], mirrored.arrays["jump_y_hi"][0, 0]
+    right = mirrored.limits["wheel_s"][0, 0, :, 1, 0]
+    assert right.tolist() == pytest.approx([g(-lo), g(-hi)])
