@@ -32,6 +32,11 @@ inclination = "none"
 profile = "{_P / 'rail_left_iter288.ban'}"
 inclination = "none"
 """
+#: the same with the right wheel's own nominal radius, 459 mm (the README's asymmetric example,
+#: where a hostile tester found a flange step no cell showed, a fold of three rigid roots and
+#: an extrapolation that ran off, y = 4.75-5.25 mm)
+README_ASYMMETRIC = TWO_MEASURED_WHEELS.replace(
+    "[rail.left]", "nominal_radius_mm = 459.0\n[rail.left]", 1)
 
 
 def write_config(directory: Path, ny: int = 7, nyaw: int = 5, methods: tuple[str, ...] = (

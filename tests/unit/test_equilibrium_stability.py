@@ -114,26 +114,12 @@ def test_an_ill_conditioned_extrapolation_is_not_stored():
     from pathlib import Path
 
     from lutmpi.config import load_config
-    from lutmpi.paths import REPO_ROOT
     from lutmpi.scene import Scene
+    from tests.support.tables import README_ASYMMETRIC
 
-    prof = REPO_ROOT / "profiles"
-    text = f"""
-[wheel.left]
-profile = "{prof / 'Car7216_0001r.whl'}"
-[wheel.right]
-profile = "{prof / 'Car7358_0001r.whl'}"
-nominal_radius_mm = 459.0
-[rail.left]
-profile = "{prof / 'MBench_UIC60_v3.prr'}"
-inclination = "none"
-[rail.right]
-profile = "{prof / 'rail_left_iter288.ban'}"
-inclination = "none"
-"""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "asym.toml"
-        path.write_text(text)
+        path.write_text(README_ASYMMETRIC)
         cfg = load_config(path)
     scene = Scene.from_config(cfg)
     reach = cfg.contact.allowed_indentation_mm * MM / math.cos(math.radians(73.0)) + 2e-6

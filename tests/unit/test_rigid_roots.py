@@ -195,21 +195,10 @@ def test_a_fold_of_three_roots_on_a_measured_worn_flange_is_resolved(tmp_path):
     +1.4, -17.5 um at 1.116, 1.616, 2.116 mrad and the solver found only the flange root,
     0.33 mm higher than the tread root. All three are found now, and the one chosen is the
     brute-force planar oracle's global minimum of max(z_left, z_right)."""
-    prof = PROFILES
+    from tests.support.tables import README_ASYMMETRIC
+
     cfg = tmp_path / "asym.toml"
-    cfg.write_text(f"""
-[wheel.left]
-profile = "{prof / 'Car7216_0001r.whl'}"
-[wheel.right]
-profile = "{prof / 'Car7358_0001r.whl'}"
-nominal_radius_mm = 459.0
-[rail.left]
-profile = "{prof / 'MBench_UIC60_v3.prr'}"
-inclination = "none"
-[rail.right]
-profile = "{prof / 'rail_left_iter288.ban'}"
-inclination = "none"
-""")
+    cfg.write_text(README_ASYMMETRIC)
     scene = Scene.from_config(load_config(cfg))
     y = 4.749 * MM
     rig = scene.locus.solve(y, 0.0)

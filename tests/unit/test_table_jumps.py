@@ -1054,22 +1054,10 @@ def test_a_measured_worn_flange_step_no_cell_shows_is_in_the_table(tmp_path):
     from lutmpi.pose.solve import solve_pose
     from lutmpi.scene import Scene
     from lutmpi.table import Table
+    from tests.support.tables import README_ASYMMETRIC
 
-    prof = REPO_ROOT / "profiles"
     cfg = tmp_path / "asym.toml"
-    cfg.write_text(f"""
-[wheel.left]
-profile = "{prof / 'Car7216_0001r.whl'}"
-[wheel.right]
-profile = "{prof / 'Car7358_0001r.whl'}"
-nominal_radius_mm = 459.0
-[rail.left]
-profile = "{prof / 'MBench_UIC60_v3.prr'}"
-inclination = "none"
-[rail.right]
-profile = "{prof / 'rail_left_iter288.ban'}"
-inclination = "none"
-[grid]
+    cfg.write_text(README_ASYMMETRIC + """[grid]
 y_mm = [3.0, 7.0, 5]
 yaw_rad = [0.05, 0.05, 1]
 [contact]
