@@ -615,22 +615,19 @@ def bracket_searches(x, h, lip):
         edges[ne, 0], edges[ne, 1] = a, b
         ne += 1
     dips = np.empty(max(n - 2, 0), dtype=np.int64)
-    nd = 0
-    for i in range(1, n - 1):
-        hm, h0, hp = h[i - 1], h[i], h[i + 1]
-        if not (np.isfinite(hm) and np.isfinite(hp) and np.isfinite(h0)):
-            continue
-        if (hm * h0 > 0 and h0 * hp > 0 and abs(h0) <= abs(hm) and abs(h0) <= abs(hp)
-                and abs(h0) <= max(abs(hm - h0), abs(hp - h0))):
-            dips[nd] = i
-            nd += 1
     folds = np.empty(max(n - 2, 0), dtype=np.int64)
-    nf = 0
+    nd = nf = 0
     for i in range(1, n - 1):
         hm, h0, hp = h[i - 1], h[i], h[i + 1]
         if not (np.isfinite(hm) and np.isfinite(hp) and np.isfinite(h0)):
             continue
-        if hm * h0 > 0 and h0 * hp < 0:
+        if hm * h0 > 0 and h0 * hp > 0:      # one sign: a dip of |h| toward zero?
+            if (abs(h0) <= abs(hm) and abs(h0) <= abs(hp)
+                    and abs(h0) <= max(abs(hm - h0), abs(hp - h0))):
+                dips[nd] = i
+                nd += 1
+            continue
+        if hm * h0 > 0 and h0 * hp < 0:      # beside a sign change: a fold?
             j, k = i - 1, i + 1
         elif hp * h0 > 0 and h0 * hm < 0:
             j, k = i + 1, i - 1
