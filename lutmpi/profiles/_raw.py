@@ -42,7 +42,10 @@ class RawProfile:
     cant_rad : float or None
         Inclination contained in the data, when the file says; None = not stated.
     unit_line : int or None
-        Line declaring the length unit (quoted when the extent is absurd).
+        Line declaring the length unit (cited when the extent is absurd); None when the file
+        declares none.
+    text : list of str
+        The file's lines, to quote one in a message; empty when not read from a file.
     """
 
     y_mm: np.ndarray
@@ -54,6 +57,11 @@ class RawProfile:
     smoothing: float | None = 0.0
     cant_rad: float | None = None
     unit_line: int | None = None
+    text: list[str] = field(default_factory=list, repr=False)
+
+    def quote(self, line: int) -> str:
+        """The stripped text of 1-based ``line`` of the file, or ``""`` when unknown."""
+        return self.text[line - 1].strip() if 0 < line <= len(self.text) else ""
 
 
 def strip_quote(text: str) -> str:

@@ -187,4 +187,4 @@ def parse(lines: list[str], path: str) -> RawProfile:
         kind_source = f"shape (read as a MiniProf {kind})" if kind else ""
     meta["y_negated"] = flip
     return RawProfile(y_mm=y_n, z_mm=z_n, lines=ln, kind=kind, kind_source=kind_source,
-                      meta=meta, smoothing=None, cant_rad=None)
+                      meta=meta, smoothing=None, cant_rad=None, text=lines)

@@ -119,4 +119,4 @@ def parse(lines: list[str], path: str) -> RawProfile:
                       kind_source=f"'# kind: {kind}' (line {kind_line})" if kind else "",
                       meta={"format": "plain", "units": unit,
                             "unit_factor_to_m": 1e-3 * scale},
-                      smoothing=0.0, unit_line=unit_line)
+                      smoothing=0.0, unit_line=unit_line, text=lines)

@@ -212,7 +212,8 @@ def parse(lines: list[str], path: str) -> RawProfile:
             "unit_factor_to_m": 1.0 / factor, "comment": comment,
             "simpack": {k: v for k, (v, _) in spline.items()}}
     raw = RawProfile(y_mm=y_mm, z_mm=z_mm, lines=lines_arr, kind=kind, kind_source=kind_source,
-                     meta=meta, smoothing=0.0 if smooth == 0 else None, unit_line=unit_line)
+                     meta=meta, smoothing=0.0 if smooth == 0 else None, unit_line=unit_line,
+                     text=lines)
     if kind == "rail" and y_mm.size >= 4:
         from lutmpi.profiles.validate import check_extent
 

@@ -2,10 +2,13 @@
 
 Order of the checks (each error names the file and, where there is one, the 1-based line):
 
-1. **no points** (fewer than 4);
-2. **repeated points** -- two consecutive identical points anywhere;
-3. **absurd units** -- lateral extent and height range against plausible ranges
-   (:data:`EXTENT_MM`): a wheel 460 m wide or a rail 0.05 mm wide is a unit error;
+1. **no points** (fewer than 4), NaN or inf;
+2. **absurd units** -- lateral extent and height range against plausible ranges
+   (:data:`EXTENT_MM`): a wheel 460 m wide or a rail 0.05 mm wide is a unit error, citing the
+   line that declares the unit, or where none does the first data line (quoted), with the unit
+   the values evidently are in (:data:`UNIT_GUESSES`); before the repeated points, which a file
+   written in metres with few decimals has where its points are closer than its last digit;
+3. **repeated points** -- two consecutive identical points anywhere;
 4. **kind** -- the requested kind against the declared one (header, extension) and against the
    shape (:func:`shape_kind`): a wheel has a narrow flange tip 15-45 mm above its tread at
    ``s ≈ -55 mm``, a rail head has a broad crown with both sides falling away;
@@ -56,7 +59,7 @@ def _fail(raw_path: str, msg: str, line: int | None = None) -> ProfileError:
 
 # -- 1-3 -----------------------------------------------------------------------------------------
 def check_points(raw: RawProfile, path: str) -> None:
-    """No points, repeated points, non-finite values (the parsers catch these per line already)."""
+    """Enough points, all finite (the parsers catch these per line already)."""
     n = raw.y_mm.size
     if n < 4:
         raise _fail(path, f"no profile points found (got {n}, need at least 4)")
@@ -64,6 +67,10 @@ def check_points(raw: RawProfile, path: str) -> None:
     if bad.any():
         k = int(np.argmax(bad))
         raise _fail(path, "NaN or inf in the points", int(raw.lines[k]))
+
+
+def check_repeats(raw: RawProfile, path: str) -> None:
+    """No two consecutive identical points (the second one's line is cited)."""
     same = (np.diff(raw.y_mm) == 0) & (np.diff(raw.z_mm) == 0)
     if same.any():
         k = int(np.argmax(same)) + 1
@@ -72,17 +79,44 @@ def check_points(raw: RawProfile, path: str) -> None:
                           f"point on line {first}", second)
 
 
-def check_extent(raw: RawProfile, path: str, kind: str) -> None:
-    """Lateral width and height range within :data:`EXTENT_MM`, else a unit error."""
+#: (factor, unit): values read as mm that fit :data:`EXTENT_MM` once multiplied by the factor
+#: were in that unit; named only when exactly one factor fits (10 and 25.4 can both fit)
+UNIT_GUESSES = ((1e3, "metres"), (10.0, "centimetres"), (25.4, "inches"), (1e-3, "micrometres"))
+
+
+def _fits(width: float, height: float, kind: str) -> bool:
     w_lo, w_hi, h_lo, h_hi = EXTENT_MM[kind]
+    return w_lo <= width <= w_hi and h_lo <= height <= h_hi
+
+
+def unit_guess(width: float, height: float, kind: str) -> str | None:
+    """The unit of :data:`UNIT_GUESSES` that values read as mm (``width``, ``height``, mm) were
+    evidently written in, or None when none or several fit."""
+    fit = [unit for f, unit in UNIT_GUESSES if _fits(width * f, height * f, kind)]
+    return fit[0] if len(fit) == 1 else None
+
+
+def check_extent(raw: RawProfile, path: str, kind: str) -> None:
+    """Lateral width and height range within :data:`EXTENT_MM`, else a unit error.
+
+    The error cites the line declaring the unit when the file has one (``units.len.f``,
+    ``# units:``), else the first data line; it quotes the first data line either way."""
     width = float(raw.y_mm.max() - raw.y_mm.min())
     height = float(raw.z_mm.max() - raw.z_mm.min())
-    unit = raw.meta.get("units", "mm")
-    if not (w_lo <= width <= w_hi and h_lo <= height <= h_hi):
-        line = raw.unit_line if raw.unit_line is not None else int(raw.lines[0])
-        raise _fail(path, f"implausible {kind} extent: {width:.4g} mm wide, {height:.4g} mm high "
-                          f"after reading the values as {unit} (expected width {w_lo:g}-{w_hi:g} "
-                          f"mm, height {h_lo:g}-{h_hi:g} mm); wrong length unit?", line)
+    if _fits(width, height, kind):
+        return
+    w_lo, w_hi, h_lo, h_hi = EXTENT_MM[kind]
+    first = int(raw.lines[0])
+    got = (f"implausible {kind} extent: {width:.4g} mm wide, {height:.4g} mm high after reading "
+           f"the values as {raw.meta.get('units', 'mm')}")
+    expected = (f"expected width {w_lo:g}-{w_hi:g} mm, height {h_lo:g}-{h_hi:g} mm; first data "
+                f"line {first}: {raw.quote(first)!r}")
+    if raw.unit_line is not None:
+        raise _fail(path, f"{got} as declared on line {raw.unit_line} ({expected}); wrong length "
+                          "unit?", raw.unit_line)
+    guess = unit_guess(width, height, kind)
+    hint = f"are the coordinates in {guess}?" if guess else "wrong length unit?"
+    raise _fail(path, f"{got}, the file declaring no unit ({expected}): {hint}", first)
 
 
 # -- 4 -------------------------------------------------------------------------------------------
@@ -286,6 +320,7 @@ def build_profile(raw: RawProfile, path: str, kind: str | None, name: str,
     """Run checks 1-6 and return the :class:`Profile` (SI units)."""
     check_points(raw, path)
     check_extent(raw, path, kind or raw.kind or "profile")   # a unit error before the shape
+    check_repeats(raw, path)
     k = resolve_kind(raw, path, kind)
     check_extent(raw, path, k)
     idx, info = trim_to_function(raw, path, k)

@@ -334,6 +334,55 @@ def test_absurd_units(tmp_path: Path, profiles_dir: Path):
     _raises_at(_write(tmp_path, "tiny.csv", tiny), None, "implausible")
 
 
+def _miniprof_in_metres(src: Path, first: int, decimals: int) -> list[str]:
+    """``src``'s lines with the first two numbers of each data line (from 1-based line
+    ``first`` on) divided by 1000, written with ``decimals`` decimals; the rest kept."""
+    lines = src.read_text().splitlines()
+    out = lines[:first - 1]
+    for t in lines[first - 1:]:
+        cols = t.strip().lstrip('"').split()
+        if len(cols) < 2:
+            out.append(t)
+            continue
+        y, z = (float(c) * 1e-3 for c in cols[:2])
+        out.append(" ".join([f"{y:.{decimals}f}", f"{z:.{decimals}f}", *cols[2:]]))
+    return out
+
+
+def test_a_miniprof_file_in_metres_cites_its_first_data_line(tmp_path: Path, profiles_dir: Path):
+    # MiniProf declares no unit: the message cites and quotes the first data line, expected vs
+    # got, and names the unit the values evidently are in (the line alone said nothing of it)
+    first = 53                           # after 52 header lines
+    lines = _miniprof_in_metres(profiles_dir / "avg_low2.ban", first, 7)
+    e = _raises_at(_write(tmp_path, "m.ban", lines), first, "implausible rail extent")
+    msg = str(e)
+    assert "0.07965 mm wide" in msg and "expected width 15-200 mm" in msg
+    assert f"first data line 53: '{lines[52]}'" in msg and "declaring no unit" in msg
+    assert msg.endswith("are the coordinates in metres?")
+    # 0.1 um resolution makes neighbouring points of the gauge face equal: the unit error comes
+    # first (it was "repeated point ... same as the point on line 32")
+    first = 32
+    lines = _miniprof_in_metres(profiles_dir / "MBench_UIC60_v3.ban", first, 7)
+    assert lines[first - 1].split() == lines[first].split()
+    _raises_at(_write(tmp_path, "m2.ban", lines), first, "are the coordinates in metres")
+    first = 11                           # the Sd/Sh/qR triple on lines 8-9 is header
+    lines = _miniprof_in_metres(profiles_dir / "Car7216_0001r.whl", first, 7)
+    _raises_at(_write(tmp_path, "m.whl", lines), first, "0.1315 mm wide.*metres")
+
+
+def test_a_declared_unit_error_cites_the_declaration_and_quotes_the_first_data_line(
+        tmp_path: Path):
+    lines = _csv_wheel_lines()
+    e = _raises_at(_write(tmp_path, "m.csv", ["# units: m"] + lines), 1, "as declared on line 1")
+    assert f"first data line 3: '{lines[1]}'" in str(e) and "wrong length unit?" in str(e)
+    tiny = [lines[0]] + [",".join(f"{float(v) * 1e-3:.9f}" for v in ln.split(",")) for ln in
+                         lines[1:]]
+    _raises_at(_write(tmp_path, "tiny.csv", tiny), 2, "are the coordinates in metres")
+    big = [lines[0]] + [",".join(f"{float(v) * 1e3:.3f}" for v in ln.split(",")) for ln in
+                        lines[1:]]
+    _raises_at(_write(tmp_path, "big.csv", big), 2, "are the coordinates in micrometres")
+
+
 def test_wrong_kind(tmp_path: Path, profiles_dir: Path):
     _raises_at(profiles_dir / "MBench_UIC60_v3.prr", None, "rail profile .* where a wheel",
                kind="wheel")
