@@ -15,12 +15,19 @@ Wheel placement
     (0.75 m nominally); profile coordinate ``s`` is positive toward the field side, so a wheel
     point of profile coordinate ``s`` lies at ``u_w = d + s`` in the wheelset frame, at radius
     ``r0 + dr(s)``.
+Steep parts (:class:`SteepCut`)
+    Each placement keeps the profile around its reference point (the top of rail, the tape
+    circle) up to the first stretch steeper than :data:`MAX_SLOPE_DEG` on either side. A steep
+    end face dropped whole is silent; usable surface dropped beyond a steep stretch is a
+    WARNING naming the profile, the dropped range, the steep stretch and the usable range; a
+    wheel's flange tip or a rail's top dropped that way is a :class:`GeometryError`.
 """
 
 from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -41,11 +48,13 @@ def _arc_length(x: np.ndarray, z: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
 
 
-def _contiguous_slope_range(slope: np.ndarray, i0: int, limit: float) -> tuple[int, int]:
-    """Largest index range around ``i0`` where |slope| <= limit."""
+def _contiguous_slope_range(slope: np.ndarray, i0: int, limit: float,
+                            what: str = "profile") -> tuple[int, int]:
+    """Largest index range around ``i0`` where |slope| <= limit; ``what`` names the profile and
+    its reference point in the error raised when ``i0`` itself is steeper."""
     ok = np.abs(slope) <= limit
     if not ok[i0]:
-        raise GeometryError("profile is steeper than the slope limit at its reference point")
+        raise GeometryError(f"{what} is steeper than the slope limit at its reference point")
     lo = i0
     while lo > 0 and ok[lo - 1]:
         lo -= 1
@@ -121,12 +130,10 @@ class PlacedRail:
         u = 0.5 * gauge + (vp - v_gp)
         z = wp - w_top
         # keep the part around the top that is a function of u and not steeper than the limit
-        du, dz = np.diff(u), np.diff(z)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            slope = np.where(du > 0, dz / du, np.inf)
-        i_top = min(int(np.argmax(z)), slope.size - 1)
-        lo, hi = _contiguous_slope_range(slope, i_top, np.tan(np.radians(max_slope_deg)))
-        u, z = u[lo : hi + 2], z[lo : hi + 2]
+        cut = RailCut.of(profile.name, v, u, z, max_slope_deg)
+        for text in cut.drop_messages(profile.name):
+            log.warning("%s", text)
+        u, z = u[cut.lo : cut.hi + 2], z[cut.lo : cut.hi + 2]
         return cls(
             profile=profile,
             inclination=float(inclination),
@@ -209,39 +216,50 @@ class PlacedRail:
 
 
 @dataclass(frozen=True, eq=False)
-class WheelCut:
-    """What the wheel placement keeps of a profile: the samples ``s[lo..hi]`` (m) around the tape
-    circle no steeper than ``limit_deg``; beyond the first steeper sample on either side the
-    profile is no contact candidate. A steep end face (the flange back, a rim) dropped whole is
-    by design; surface beyond a steep stretch is lost, and the flange tip among it is an error."""
+class SteepCut:
+    """What a placement keeps of a profile: the elements ``lo..hi`` around a reference point no
+    steeper than ``limit_deg``; beyond the first steeper element on either side the profile is no
+    contact candidate. A steep end face (a flange back, a rim, a rail's lower gauge face) dropped
+    whole is by design; surface no steeper than the limit beyond a steep stretch is lost, and
+    :meth:`drop_messages` says so.
 
-    s: np.ndarray
-    z: np.ndarray
+    An element is a sample (:class:`WheelCut`) or the interval from one sample to the next
+    (:class:`RailCut`, ``SPAN = 1``).
+
+    Attributes
+    ----------
+    x : ndarray
+        The samples' lateral profile coordinate (``s`` or ``v``), m, increasing.
+    slope : ndarray
+        Slope of each element (dimensionless; inf where the surface overhangs).
+    lo, hi : int
+        First and last element kept.
+    limit_deg : float
+        The slope limit, deg.
+    """
+
+    x: np.ndarray
     slope: np.ndarray
     lo: int
     hi: int
     limit_deg: float
 
-    @classmethod
-    def of(cls, profile: Profile, max_slope_deg: float = MAX_SLOPE_DEG) -> WheelCut:
-        n = max(int((profile.y_max - profile.y_min) / _SAMPLE), 200)
-        s = np.linspace(profile.y_min, profile.y_max, n)
-        slope = profile.slope(s)
-        lo, hi = _contiguous_slope_range(slope, int(np.argmin(np.abs(s))),
-                                         np.tan(np.radians(max_slope_deg)))
-        return cls(s, profile.z_at(s), slope, lo, hi, float(max_slope_deg))
+    KIND: ClassVar[str] = "profile"          # names the profile in messages
+    COORD: ClassVar[str] = "y"               # names its lateral coordinate
+    SIDES: ClassVar[tuple[str, str]] = ("low", "high")   # the sides at low / high coordinate
+    FRAME: ClassVar[str] = ""                # where the slope is measured, if not the profile
+    SPAN: ClassVar[int] = 0                  # 1: element i spans samples i .. i + 1
 
-    @property
-    def tip_dropped(self) -> bool:
-        """True when the flange side's highest point (the tip) lies in the dropped part."""
-        i0 = int(np.argmin(np.abs(self.s)))
-        return self.lo > 0 and self.z[: self.lo].max() > self.z[self.lo: i0 + 1].max() + 1e-6
+    def span_mm(self, a: int, b: int) -> tuple[float, float]:
+        """Coordinate range (mm) covered by the elements ``a .. b``."""
+        return float(self.x[a] * 1e3), float(self.x[b + self.SPAN] * 1e3)
 
     def _steep(self, part: slice) -> tuple[float, float, float]:
-        """(first s, last s, steepest angle in deg) of the steep stretch next to the kept part."""
+        """(first, last coordinate in mm, steepest angle in deg) of the steep stretch next to the
+        kept part, within the dropped ``part`` (``slice(None, lo)`` or ``slice(hi + 1, None)``)."""
         bad = np.flatnonzero(np.abs(self.slope[part]) > np.tan(np.radians(self.limit_deg)))
-        idx = np.arange(self.s.size)[part][bad]
-        run = idx[-1] if part.start is None else idx[0]    # the sample next to the kept part
+        idx = np.arange(self.slope.size)[part][bad]
+        run = idx[-1] if part.start is None else idx[0]    # the element next to the kept part
         k = np.flatnonzero(np.abs(np.diff(idx)) > 1)
         if part.start is None:
             first = idx[k[-1] + 1] if k.size else idx[0]
@@ -250,7 +268,67 @@ class WheelCut:
             last = idx[k[0]] if k.size else idx[-1]
             a, b = run, last
         deg = np.degrees(np.arctan(np.abs(self.slope[a: b + 1]).max()))
-        return self.s[a] * 1e3, self.s[b] * 1e3, float(deg)
+        return (*self.span_mm(a, b), float(deg))
+
+    def drop_messages(self, name: str) -> list[str]:
+        """One line per dropped part that holds surface no steeper than the limit."""
+        ok = np.abs(self.slope) <= np.tan(np.radians(self.limit_deg))
+        c, out = self.COORD, []
+        for part, side in ((slice(None, self.lo), self.SIDES[0]),
+                           (slice(self.hi + 1, None), self.SIDES[1])):
+            if not ok[part].any():
+                continue   # empty, or a steep end face only: nothing a contact could use
+            a, b, deg = self._steep(part)
+            idx = np.arange(self.slope.size)[part]
+            ends = self.span_mm(idx[0], idx[-1])
+            use = self.span_mm(self.lo, self.hi)
+            out.append(f"{self.KIND} {name}: {c} = {ends[0]:.2f} .. {ends[1]:.2f} mm ({side} side) "
+                       f"is not used for contact: it lies beyond {c} = {a:.2f} .. {b:.2f} mm, "
+                       f"steeper than {self.limit_deg:g} deg{self.FRAME} (up to {deg:.1f} deg); "
+                       f"the usable profile is {c} = {use[0]:.2f} .. {use[1]:.2f} mm")
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class WheelCut(SteepCut):
+    """What the wheel placement keeps of a profile: the samples ``s[lo..hi]`` (m) around the tape
+    circle no steeper than ``limit_deg`` (:class:`SteepCut`); the flange tip among the dropped
+    surface is an error (:attr:`tip_dropped`, :meth:`tip_message`).
+
+    Attributes
+    ----------
+    z : ndarray
+        The radius increment ``dr`` at each sample, m.
+    """
+
+    z: np.ndarray
+
+    KIND: ClassVar[str] = "wheel"
+    COORD: ClassVar[str] = "s"
+    SIDES: ClassVar[tuple[str, str]] = ("flange", "field")
+
+    @classmethod
+    def of(cls, profile: Profile, max_slope_deg: float = MAX_SLOPE_DEG) -> WheelCut:
+        """The cut of wheel ``profile`` at the slope limit ``max_slope_deg`` (deg)."""
+        n = max(int((profile.y_max - profile.y_min) / _SAMPLE), 200)
+        s = np.linspace(profile.y_min, profile.y_max, n)
+        slope = profile.slope(s)
+        lo, hi = _contiguous_slope_range(slope, int(np.argmin(np.abs(s))),
+                                         np.tan(np.radians(max_slope_deg)),
+                                         f"wheel {profile.name} (at the tape circle s = 0)")
+        return cls(x=s, slope=slope, lo=lo, hi=hi, limit_deg=float(max_slope_deg),
+                   z=profile.z_at(s))
+
+    @property
+    def s(self) -> np.ndarray:
+        """The samples' profile coordinate ``s``, m."""
+        return self.x
+
+    @property
+    def tip_dropped(self) -> bool:
+        """True when the flange side's highest point (the tip) lies in the dropped part."""
+        i0 = int(np.argmin(np.abs(self.s)))
+        return self.lo > 0 and self.z[: self.lo].max() > self.z[self.lo: i0 + 1].max() + 1e-6
 
     def tip_message(self, name: str) -> str:
         a, b, deg = self._steep(slice(None, self.lo))
@@ -265,20 +343,77 @@ class WheelCut:
                 f"{self.z[self.lo: i0 + 1].max() * 1e3:.2f} mm), so flange contacts would end "
                 "at the profile's end; check the flange of the profile (or its wear)")
 
-    def drop_messages(self, name: str) -> list[str]:
-        """One line per dropped part that holds surface no steeper than the limit."""
-        ok = np.abs(self.slope) <= np.tan(np.radians(self.limit_deg))
-        out = []
-        for part, side in ((slice(None, self.lo), "flange"), (slice(self.hi + 1, None), "field")):
-            if not ok[part].any():
-                continue   # empty, or a steep end face only: nothing a contact could use
-            a, b, deg = self._steep(part)
-            ends = self.s[part][[0, -1]] * 1e3
-            out.append(f"wheel {name}: s = {ends[0]:.2f} .. {ends[1]:.2f} mm ({side} side) is not "
-                       f"used for contact: it lies beyond s = {a:.2f} .. {b:.2f} mm, steeper "
-                       f"than {self.limit_deg:g} deg (up to {deg:.1f} deg); the usable profile "
-                       f"is s = {self.s[self.lo] * 1e3:.2f} .. {self.s[self.hi] * 1e3:.2f} mm")
-        return out
+
+#: the rail head's top: the surface within this depth (m) below the top of rail. A placement
+#: that keeps nothing deeper is a sliver of it (or of a spline's overshoot beside a step), and
+#: the head's top is dropped. A rail read from a file falls by at least 5 mm on both sides
+#: (:func:`lutmpi.profiles.validate.looks_like_rail`, whose crown is the same 1 mm)
+RAIL_TOP_DEPTH = 1e-3
+
+
+@dataclass(frozen=True, eq=False)
+class RailCut(SteepCut):
+    """What the rail placement keeps of a profile: the intervals ``lo..hi`` between the samples
+    around the top of rail whose slope, as placed (inclined), is within ``limit_deg``
+    (:class:`SteepCut`); ``x`` is the profile's own ``v`` (m), gauge side first. Dropping the
+    head's top is an error: a top of rail steeper than the limit on both sides, or a kept part
+    that stays within :data:`RAIL_TOP_DEPTH` of it."""
+
+    KIND: ClassVar[str] = "rail"
+    COORD: ClassVar[str] = "v"
+    SIDES: ClassVar[tuple[str, str]] = ("gauge", "field")
+    FRAME: ClassVar[str] = " as placed"
+    SPAN: ClassVar[int] = 1
+
+    @classmethod
+    def of(cls, name: str, v: np.ndarray, u: np.ndarray, z: np.ndarray,
+           max_slope_deg: float = MAX_SLOPE_DEG) -> RailCut:
+        """The cut of the rail ``name`` sampled at profile ``v`` and placed at ``(u, z)`` (m, all
+        shape (n,)); an interval where ``u`` does not increase (an overhang) is steep.
+
+        Raises
+        ------
+        GeometryError
+            The cut would drop the head's top (class docstring).
+        """
+        du, dz = np.diff(u), np.diff(z)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = np.where(du > 0, dz / du, np.inf)
+        limit = np.tan(np.radians(max_slope_deg))
+        k = int(np.argmax(z))
+        # the interval on the field side of the top, else the one on its gauge side
+        ref = [i for i in (min(k, slope.size - 1), k - 1)
+               if 0 <= i < slope.size and abs(slope[i]) <= limit]
+        if not ref:
+            near = np.abs(slope[max(k - 1, 0): k + 1])
+            raise GeometryError(
+                f"rail {name}: the top of rail (its highest point as placed, v = "
+                f"{v[k] * 1e3:.2f} mm) lies between stretches steeper than the "
+                f"{max_slope_deg:g} deg a contact may have (up to "
+                f"{np.degrees(np.arctan(near.max())):.1f} deg): the placement would drop the "
+                "head's top; check the crown of the profile (a spike or a step?)")
+        lo, hi = _contiguous_slope_range(slope, ref[0], limit)
+        cut = cls(x=v, slope=slope, lo=lo, hi=hi, limit_deg=float(max_slope_deg))
+        depth = float(z[k] - z[lo: hi + 2].min())
+        if depth < RAIL_TOP_DEPTH:
+            raise GeometryError(cut._sliver_message(name, v[k], depth))
+        return cut
+
+    def _sliver_message(self, name: str, v_top: float, depth: float) -> str:
+        use = self.span_mm(self.lo, self.hi)
+        beyond = []
+        for part, side in ((slice(None, self.lo), self.SIDES[0]),
+                           (slice(self.hi + 1, None), self.SIDES[1])):
+            if np.arange(self.slope.size)[part].size:
+                a, b, deg = self._steep(part)
+                beyond.append(f"v = {a:.2f} .. {b:.2f} mm on the {side} side (up to {deg:.1f} deg)")
+        return (f"rail {name}: the placement would keep only v = {use[0]:.2f} .. {use[1]:.2f} mm "
+                f"around the top of rail (v = {v_top * 1e3:.2f} mm), nowhere more than "
+                f"{depth * 1e3:.3f} mm below it (a rail head falls away by more than "
+                f"{RAIL_TOP_DEPTH * 1e3:g} mm): beyond it, {' and '.join(beyond)} are steeper than "
+                f"the {self.limit_deg:g} deg a contact may have as placed, so the head's top would "
+                "be dropped; check the crown of the profile (a step in it? an interpolating "
+                "spline overshoots beside a step)")
 
 
 @dataclass(frozen=True, eq=False)
