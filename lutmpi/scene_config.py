@@ -209,6 +209,9 @@ def _thinned(wheel: Profile, thickness_mm: float, key: str, path: str | None) ->
             worn = wear.flange_thinning(wheel, t)
         except ProfileError:
             return "folds the flange face over itself"
+        # WheelGeometry.place cuts the wheel it places again (~1 ms, not passed on): the tread
+        # hollowing applied after the thinning changes that wheel, and the scene is built from
+        # profiles (Scene.from_profiles), not from cuts
         if WheelCut.of(worn).tip_dropped:
             return (f"leaves a stretch of the face steeper than {MAX_SLOPE_DEG:g} deg, beyond "
                     "which the flange tip would be no contact candidate")
