@@ -1,5 +1,5 @@
 """The jump search of a built table, serially: how many poses it solves and how many jumps it
-finds (issue 14; the search is step 2-4 of :mod:`lutmpi.table.jumps`, the first part of a
+finds (issue 14; the search is :mod:`lutmpi.table.jump_search`, the first part of a
 build's jump step), for comparing two trees on the same grid.
 
     .venv/bin/python benchmarks/jump_search.py CONFIG TABLE.h5 [--columns 0,9,18] [--method M]
@@ -18,7 +18,7 @@ import time
 
 from lutmpi.config import load_config
 from lutmpi.scene import Scene
-from lutmpi.table import jumps as tj
+from lutmpi.table import jump_search as tjs
 from lutmpi.table.compute import default_solver, pose_to_record
 from lutmpi.table.h5io import read_table
 from lutmpi.table.schema import limit_fields, select_fields
@@ -48,11 +48,11 @@ def main() -> None:
         count[0] += 1
         return pose_to_record(solver(scene, yy, aa, method), fields)
 
-    cells = [c for c in tj.candidate_cells(arrays) if c[0] in cols]
+    cells = [c for c in tjs.candidate_cells(arrays) if c[0] in cols]
     t0 = time.process_time()
     found = []
     for cell in cells:
-        found += tj.refine_cell(arrays, y, yaw, cell, solve)[0]
+        found += tjs.refine_cell(arrays, y, yaw, cell, solve)[0]
     print(f"{method}, {len(cols)} yaw columns: {len(cells)} candidate cells, {len(found)} jumps, "
           f"{count[0]} search solves ({time.process_time() - t0:.1f} s CPU)")
     if a.jumps:

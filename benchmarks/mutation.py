@@ -290,14 +290,14 @@ MUTATIONS: tuple[Mutation, ...] = (
       "        gaps = {s: rigid.loci[s].gap for s in SIDES}", (T_CHECK,),
       "lutmpi check's contact zones counted on the 0.1 mm samples' gaps, not the resolved ones"),
     # -- jump-aware tables: jumps located, refined between, followed across yaw (issue 11) -----
-    M("jump_bracket_wide", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("jump_bracket_wide", "jump-aware tables", "lutmpi/table/jump_search.py",
       "TOL_M = 5e-6", "TOL_M = 5e-4", (T_JUMPS,),
       "jumps bisected to a 0.5 mm bracket instead of 5 µm"),
-    M("sudden_ignored", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("sudden_ignored", "jump-aware tables", "lutmpi/table/jump_search.py",
       "    return bool(np.any(np.isfinite(m) & (m > CONFIRM_M) & (m > RATE_RATIO * slower)))",
       "    return False", (T_JUMPS,),
       "a cell whose contact point moves suddenly (< 2 mm) is not searched for a jump"),
-    M("refine_rr_loose", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("refine_rr_loose", "jump-aware tables", "lutmpi/table/refine.py",
       "REFINE_TOL = {D.rolling_radius: 1e-6,", "REFINE_TOL = {D.rolling_radius: 1e-4,",
       (T_JUMPS,), "refinement between jumps to 0.1 mm of rolling radius instead of 1 µm"),
     M("neighbour_dip_off", "rigid roots", "lutmpi/contact/rigid_kernels.py",
@@ -305,20 +305,20 @@ MUTATIONS: tuple[Mutation, ...] = (
       "        if g2 < best and g2 < out and False:\n", (T_ROOTS,),
       "the intervals beyond an unresolved smallest sample's neighbours are not resampled (a "
       "root on the touching height's jump, the wheels 29 um apart)"),
-    M("refine_floor_coarse", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("refine_floor_coarse", "jump-aware tables", "lutmpi/table/refine.py",
       "MIN_WIDTH_M = TOL_M\n", "MIN_WIDTH_M = 40 * TOL_M\n", (T_JUMPS,),
       "refinement stops at 0.2 mm knot spacing instead of a jump's 5 µm bracket"),
-    M("cubic_test_secant", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("cubic_test_secant", "jump-aware tables", "lutmpi/table/refine.py",
       "    if len(x) == 2:\n        d0 = d1 = delta[0]\n",
       "    if True:\n        d0 = d1 = delta[i]\n", (T_JUMPS,),
       "the pose (z_g, roll) refined against the straight line, not the table's cubic (the "
       "pre-2026-11-27 rule)"),
-    M("neighbours_across_jump", "jump-aware tables", "lutmpi/table/jumps.py",
-      "        return 0 <= i < len(knots) and knots[i][2] == piece and _disc(knots[i][1])"
+    M("neighbours_across_jump", "jump-aware tables", "lutmpi/table/refine.py",
+      "        return 0 <= i < len(knots) and knots[i][2] == piece and discrete_key(knots[i][1])"
       " == disc\n",
-      "        return 0 <= i < len(knots) and _disc(knots[i][1]) == disc\n", (T_JUMPS,),
+      "        return 0 <= i < len(knots) and discrete_key(knots[i][1]) == disc\n", (T_JUMPS,),
       "the cubic of the pose's refinement reaches across a jump for its neighbours"),
-    M("search_ignores_known", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("search_ignores_known", "jump-aware tables", "lutmpi/table/jump_search.py",
       "        inside = [(y, r) for y, r in known if a < y < b]\n",
       "        inside = []\n", (T_JUMPS,),
       "each jump of a cluster bisected afresh from its whole sub-interval (the pre-2026-11-27 "
@@ -327,11 +327,11 @@ MUTATIONS: tuple[Mutation, ...] = (
       '"roll angle theta_x", signs=(-1, 1)),', '"roll angle theta_x", signs=(1, 1)),',
       (T_MIRROR,), "a symmetric pair's reflection y -> -y keeps the roll's sign (the mirrored "
       "half of a table with its roll the wrong way round)"),
-    M("in_part_unreported", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("in_part_unreported", "jump-aware tables", "lutmpi/table/jump_search.py",
       "        if len(jps) < MAX_PER_CELL:\n            continue\n",
       "        if len(jps) <= MAX_PER_CELL:\n            continue\n", (T_JUMPS,),
       "a cell whose search used its whole budget with a jump left is not reported"),
-    M("image_limits_unswapped", "jump-aware tables", "lutmpi/table/jumps.py",
+    M("image_limits_unswapped", "jump-aware tables", "lutmpi/table/mirror.py",
       "        return Jump(j, self.y(g, jp.hi), self.y(g, jp.lo), g.record(jp.rec_hi),\n"
       "                    g.record(jp.rec_lo), jp.kind, side)\n",
       "        return Jump(j, self.y(g, jp.hi), self.y(g, jp.lo), g.record(jp.rec_lo),\n"

@@ -297,8 +297,8 @@ class OutputConfig:
 
     methods: tuple[str, ...] = ("load_centre",)
     quantities: tuple[str, ...] = ("all",)
-    jumps: bool = True      # locate the contact jumps after the grid (lutmpi/table/jumps.py)
-    refine: bool = True     # refine the pieces between contact jumps (lutmpi/table/jumps.py)
+    jumps: bool = True      # locate the contact jumps after the grid (lutmpi/table/jump_search.py)
+    refine: bool = True     # refine the pieces between contact jumps (lutmpi/table/refine.py)
     refine_scale: float = 1.0  # factor on the refinement's tolerances (> 1: coarser, cheaper)
     mirror: bool = True     # a symmetric pair's jump step mirrors half its solves (jumps.Mirror)
 

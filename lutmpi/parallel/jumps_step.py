@@ -6,9 +6,9 @@ Runs on every rank once the grid is complete and written (one call from
 (the table is small next to the solves), every rank lists the same candidate cells and takes
 them one at a time from a shared counter (:mod:`lutmpi.parallel.workqueue`, as the grid's points;
 a static split with ``--split``), refines each with direct solves
-(:func:`lutmpi.table.jumps.refine_cell`, pure), and the found jumps are gathered in cell order;
-the refinement intervals that follow are handed out alike. The result is the same for any number
-of ranks and any hand-out.
+(:func:`lutmpi.table.jump_search.refine_cell`, pure), and the found jumps are gathered in cell
+order; the refinement intervals that follow are handed out alike. The result is the same for
+any number of ranks and any hand-out.
 """
 
 from __future__ import annotations
@@ -25,7 +25,10 @@ from lutmpi.parallel import partition
 from lutmpi.parallel.workqueue import make_counter
 from lutmpi.table import h5io
 from lutmpi.table import interp as _interp
+from lutmpi.table import jump_search as _js
 from lutmpi.table import jumps as _jumps
+from lutmpi.table import mirror as _mirror
+from lutmpi.table import refine as _refine
 from lutmpi.table.compute import pose_to_record
 from lutmpi.table.schema import limit_fields
 
@@ -44,7 +47,7 @@ def _all_rows(comm: Any, row_start: int, blocks: dict[str, dict[str, np.ndarray]
 def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
               methods: tuple[str, ...], fields: Any, f: Any, io: Any, row_start: int,
               blocks: dict[str, dict[str, np.ndarray]], split: str = "dynamic",
-              mirror: tuple[_jumps.Mirror | None, str] | None = None) -> None:
+              mirror: tuple[_mirror.Mirror | None, str] | None = None) -> None:
     """Locate, refine and write the jumps of every method (unless ``output.jumps`` is false),
     and the dynamics attributes.
 
@@ -95,16 +98,16 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
         modes = _interp.choose_modes(grid.y, mask_failed(arrays), js.arrays,
                                      mask_failed(js.limits), js.knot_y, mask_failed(js.knots))
         h5io.write_jumps(f, io, comm.rank, method, js.arrays, js.limits, js.knot_y, js.knots, {
-            "interpolants": json.dumps(modes), "candidate_m": _jumps.CANDIDATE_M,
-            "confirm_m": _jumps.CONFIRM_M, "candidate_rate_ratio": _jumps.RATE_RATIO,
-            "tol_m": _jumps.TOL_M,
-            "refine_tol": json.dumps(_jumps.REFINE_TOL), "min_width_m": _jumps.MIN_WIDTH_M,
+            "interpolants": json.dumps(modes), "candidate_m": _js.CANDIDATE_M,
+            "confirm_m": _js.CONFIRM_M, "candidate_rate_ratio": _js.RATE_RATIO,
+            "tol_m": _js.TOL_M,
+            "refine_tol": json.dumps(_refine.REFINE_TOL), "min_width_m": _refine.MIN_WIDTH_M,
             "refine_mesh_spacing_m": json.dumps(None if mesh is None else mesh.spacing.tolist()),
             "refine_mesh_centroid": bool(mesh is not None and mesh.centroid),
-            "refine_mesh_step_fraction": _jumps.MESH_STEP_FRACTION,
+            "refine_mesh_step_fraction": _refine.MESH_STEP_FRACTION,
             "refine_scale": float(config.output.refine_scale),
             "mirrored": mirror is not None,
-            "max_per_cell": _jumps.MAX_PER_CELL,
+            "max_per_cell": _js.MAX_PER_CELL,
             "cells_searched_in_part": len(counts["in_part"]),
             # the same value on every rank (collective metadata): rank 0's
             "wall_time_s": comm.bcast(time.perf_counter() - t_method, root=0)})
@@ -115,7 +118,7 @@ def add_jumps(comm: Any, grid: Any, config: Any, scene: Any, solver: Any,
                      int(js.count.max(initial=0)), counts["in_refinement"],
                      int(np.isfinite(js.knot_y).sum()),
                      {k: v for k, v in modes.items() if v != "linear"} or "all linear")
-            _jumps.warn_in_part(counts["in_part"], grid.yaw, method)
+            _js.warn_in_part(counts["in_part"], grid.yaw, method)
             if mirror is not None:
                 log.info("%s: mirrored (%s): %d of %d candidate cells and %d of %d refined "
                          "intervals taken from their images, not solved", method, why,
@@ -144,8 +147,8 @@ def _log_work(comm: Any, wall: float, spent: list) -> None:
 
 
 def mirror_of(config: Any, scene: Any, solver: Any, y_axis: np.ndarray, yaw_axis: np.ndarray
-              ) -> tuple[_jumps.Mirror | None, str]:
-    """The grid's :class:`~lutmpi.table.jumps.Mirror` when a build may fill poses by
+              ) -> tuple[_mirror.Mirror | None, str]:
+    """The grid's :class:`~lutmpi.table.mirror.Mirror` when a build may fill poses by
     reflection (its grid and its jump step), else None; and the reflections or why none, in
     words for the build log. It may with ``output.mirror``, a solver whose results are
     symmetric (``reflection_symmetric``: lutmpi's own, and a sweep's wrapper of it) and a grid
@@ -157,18 +160,18 @@ def mirror_of(config: Any, scene: Any, solver: Any, y_axis: np.ndarray, yaw_axis
         return None, "output.mirror = false"
     if not getattr(solver, "reflection_symmetric", False) or not isinstance(scene, Scene):
         return None, "a solver hook solves the poses (its symmetry is unknown)"
-    mirror = _jumps.Mirror.of(y_axis, yaw_axis, scene.symmetric)
+    mirror = _mirror.Mirror.of(y_axis, yaw_axis, scene.symmetric)
     pair = ("a symmetric pair" if scene.symmetric else
             "the two sides' wheel or rail profiles (or their placing) differ")
     if mirror is None:
         return None, (f"the grid is not symmetric about yaw = 0 or y = 0 (within "
-                      f"{_jumps.MIRROR_AXIS_TOL:g}; {pair})")
+                      f"{_mirror.MIRROR_AXIS_TOL:g}; {pair})")
     return mirror, f"{mirror.describe()}; {pair}"
 
 
-def mesh_resolution(scene: Any, method: str) -> _jumps.MeshResolution | None:
+def mesh_resolution(scene: Any, method: str) -> _refine.MeshResolution | None:
     """The mesh that bounds the refinement of a mesh method's table
-    (:func:`lutmpi.table.jumps.tolerances`): per wheel (left, right) the lateral node spacing of
+    (:func:`lutmpi.table.refine.tolerances`): per wheel (left, right) the lateral node spacing of
     the wheel and the rail mesh; None for a method without a mesh, or when the solve is not
     lutmpi's own on a :class:`~lutmpi.scene.Scene` (a solver hook: its mesh is unknown)."""
     from lutmpi.contact.methods import get_method
@@ -178,7 +181,7 @@ def mesh_resolution(scene: Any, method: str) -> _jumps.MeshResolution | None:
     m = get_method(method)
     if not m.uses_mesh or not isinstance(scene, Scene):
         return None
-    return _jumps.MeshResolution(
+    return _refine.MeshResolution(
         np.array([[scene.side(n).wheel_mesh.h_lat, scene.side(n).rail_mesh.h_lat]
                   for n in SIDES]), m.centroid)
 
@@ -213,11 +216,11 @@ class _Ref(int):
 
 
 def _map_records(obj: Any, fn: Any) -> Any:
-    """``obj`` (lists, tuples, :class:`~lutmpi.table.jumps.Jump`, pose records) with every pose
-    record (a dict; a :class:`_Ref` when unpacking) replaced by ``fn(record)``."""
+    """``obj`` (lists, tuples, :class:`~lutmpi.table.jump_search.Jump`, pose records) with every
+    pose record (a dict; a :class:`_Ref` when unpacking) replaced by ``fn(record)``."""
     if isinstance(obj, dict | _Ref):
         return fn(obj)
-    if isinstance(obj, _jumps.Jump):
+    if isinstance(obj, _js.Jump):
         return dataclasses.replace(obj, rec_lo=fn(obj.rec_lo), rec_hi=fn(obj.rec_hi))
     if isinstance(obj, list | tuple):
         return type(obj)(_map_records(x, fn) for x in obj)
@@ -243,35 +246,35 @@ def _pack(obj: Any) -> tuple[Any, dict[str, np.ndarray]]:
 
 def _unpack(skeleton: Any, columns: dict[str, np.ndarray]) -> Any:
     """The object :func:`_pack` packed (each record's arrays are rows of the columns: a
-    :class:`~lutmpi.table.jumps.ColumnRecord`, which reflects in columns)."""
+    :class:`~lutmpi.table.mirror.ColumnRecord`, which reflects in columns)."""
     images: dict[tuple[bool, bool], Any] = {}
-    return _map_records(skeleton, lambda row: _jumps.ColumnRecord.at(columns, row, images))
+    return _map_records(skeleton, lambda row: _mirror.ColumnRecord.at(columns, row, images))
 
 
 def _locate(comm: Any, grid: Any, arrays: dict[str, np.ndarray], solve: Any, fields: Any,
-            refine: bool, mesh: _jumps.MeshResolution | None, split: str = "dynamic",
-            scale: float = 1.0, mirror: _jumps.Mirror | None = None
+            refine: bool, mesh: _refine.MeshResolution | None, split: str = "dynamic",
+            scale: float = 1.0, mirror: _mirror.Mirror | None = None
             ) -> tuple[_jumps.JumpSet, dict[str, int]]:
     """Jumps (bisection over the candidate cells), then (``refine``) refinement of every piece
     interval with the factor ``scale`` on its tolerances, both shared among the ranks;
     ``mirror``: a cell or an interval that is the image of another takes its poses reflected,
-    not solved (:func:`lutmpi.table.jumps.mirrored_map`). Returns the jumps and the counts of
+    not solved (:func:`lutmpi.table.mirror.mirrored_map`). Returns the jumps and the counts of
     candidate cells and refined intervals, and of those taken from their images, and the cells
-    searched in part (:func:`lutmpi.table.jumps.searched_in_part`)."""
+    searched in part (:func:`lutmpi.table.jump_search.searched_in_part`)."""
     t0 = time.perf_counter()
-    cells = _jumps.candidate_cells(arrays)
+    cells = _js.candidate_cells(arrays)
     cell_pairs = mirror.cells(cells) if mirror else {}
-    res = _jumps.mirrored_map(cells, lambda todo: _share(comm, todo, lambda c: _jumps.refine_cell(
+    res = _mirror.mirrored_map(cells, lambda todo: _share(comm, todo, lambda c: _js.refine_cell(
         arrays, grid.y, grid.yaw, c, solve), split), cell_pairs,
         mirror.cell_result if mirror else None)
     t1 = time.perf_counter()
-    found, extra = _jumps.found_and_samples(cells, res)
-    in_part = _jumps.searched_in_part(arrays, grid.y, cells, res)
-    items = (_jumps.refinement_plan(arrays, grid.y, grid.yaw.size, found, extra) if refine
+    found, extra = _js.found_and_samples(cells, res)
+    in_part = _js.searched_in_part(arrays, grid.y, cells, res)
+    items = (_refine.refinement_plan(arrays, grid.y, grid.yaw.size, found, extra) if refine
              else [])
     item_pairs = mirror.items(items) if mirror else {}
-    refined = _jumps.mirrored_map(items, lambda todo: _share(comm, todo, lambda it: (
-        _jumps.refine_item(it[0], it[1][0], it[1][1], it[2][0], it[2][1],
+    refined = _mirror.mirrored_map(items, lambda todo: _share(comm, todo, lambda it: (
+        _refine.refine_item(it[0], it[1][0], it[1][1], it[2][0], it[2][1],
                            float(grid.yaw[it[0]]), solve, mesh=mesh, scale=scale, outer=it[3])),
         split), item_pairs, mirror.cell_result if mirror else None)
     log.debug("jump search: %d cells, %.2f s; refinement: %d intervals, %.2f s", len(cells),

@@ -52,7 +52,7 @@ from lutmpi.parallel.workqueue import make_counter
 from lutmpi.parallel.writer import TableWriter
 from lutmpi.table.compute import Solver, compute_points, default_solver
 from lutmpi.table.grid import Grid
-from lutmpi.table.jumps import Reflection
+from lutmpi.table.mirror import Reflection
 from lutmpi.table.provenance import input_record
 from lutmpi.table.schema import (
     SCHEMA_VERSION,
@@ -383,7 +383,7 @@ def _compute_all(comm: Any, writer: TableWriter, grid: Grid, scene: Any,
                  ) -> tuple[float, float]:
     """Solve this rank's points without waiting for any other rank; journal each batch at once,
     with the points that are reflections of its points (``images``:
-    :meth:`lutmpi.table.jumps.Mirror.grid_plan`) filled from them. Rank 0 logs the estimated
+    :meth:`lutmpi.table.mirror.Mirror.grid_plan`) filled from them. Rank 0 logs the estimated
     global progress. SIGINT/SIGTERM raise :class:`~lutmpi.errors.BuildInterruptedError`.
 
     Returns ``(busy, loop)``: the time spent in the solver and the loop's time from its first

@@ -246,7 +246,7 @@ class TableWriter:
 
     def reflect(self, src: int, dst: int, g: Any) -> None:
         """Row ``dst`` of the rows last claimed set to row ``src`` reflected by ``g`` (a
-        :class:`~lutmpi.table.jumps.Reflection`): the whole row at once on its bytes
+        :class:`~lutmpi.table.mirror.Reflection`): the whole row at once on its bytes
         (:func:`lutmpi.table.schema.row_reflection`, its plan kept per reflection), both row
         numbers as :meth:`claim` counts."""
         plan = self._reflections.get(g)

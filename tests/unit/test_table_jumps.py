@@ -20,7 +20,10 @@ from lutmpi.config.load import load_config
 from lutmpi.equilibrium.result import CONVERGED
 from lutmpi.paths import REPO_ROOT
 from lutmpi.table import interp as ti
+from lutmpi.table import jump_search as tjs
 from lutmpi.table import jumps as tj
+from lutmpi.table import mirror as tm
+from lutmpi.table import refine as trf
 from lutmpi.table.schema import FIELDS, limit_fields
 
 NAMES = ("status", "n_contacts", "wheel_s", "rail_v", "rolling_radius", "z_g")
@@ -76,8 +79,8 @@ def test_each_jump_is_located_within_the_tolerance(synthetic_table):
     assert js.count.tolist() == [1] * yaw_axis.size
     for j, yaw in enumerate(yaw_axis):
         lo, hi = js.arrays["jump_y_lo"][j, 0], js.arrays["jump_y_hi"][j, 0]
-        assert lo < jump_at(yaw) <= hi and hi - lo <= tj.TOL_M       # the bracket holds it
-        assert abs(js.arrays["jump_y"][j, 0] - jump_at(yaw)) <= tj.TOL_M / 2
+        assert lo < jump_at(yaw) <= hi and hi - lo <= tjs.TOL_M       # the bracket holds it
+        assert abs(js.arrays["jump_y"][j, 0] - jump_at(yaw)) <= tjs.TOL_M / 2
         assert js.arrays["jump_kind"][j, 0] == 1 and js.arrays["jump_side"][j, 0] == 1
         # one-sided limits are the two closed-form branches
         assert js.limits["wheel_s"][j, 0, 0, 0, 0] == pytest.approx(2 * lo)
@@ -102,7 +105,7 @@ def test_a_query_across_a_jump_never_returns_a_blend(synthetic_table):
     y = jump_at(yaw) + rng.uniform(-0.5e-3, 0.5e-3, 400)
     y = np.concatenate([y, jump_at(yaw_axis)])              # exactly at the jump: upper side
     yaw = np.concatenate([yaw, yaw_axis])
-    far = np.abs(y - jump_at(yaw)) > tj.TOL_M / 2          # inside the bracket: either side
+    far = np.abs(y - jump_at(yaw)) > tjs.TOL_M / 2          # inside the bracket: either side
     want = np.where(y >= jump_at(yaw), 0.47 + y, 0.46 + 0.05 * y)
     got = ip.evaluate(y, yaw)[0][:, off]
     tread, flange = 0.46 + 0.05 * y, 0.47 + y
@@ -135,10 +138,10 @@ def test_a_small_jump_on_a_slowly_moving_contact_is_located():
     for i, y in enumerate(y_axis):
         for name, v in creeping(float(y), 0.0).items():
             out[name][i, 0] = v
-    assert tj.candidate_cells(out, threshold=tj.CANDIDATE_M) == [(0, 10)]
+    assert tjs.candidate_cells(out, threshold=tjs.CANDIDATE_M) == [(0, 10)]
     js = tj.locate_jumps(out, y_axis, yaw_axis, creeping, FLDS, refine=False)
     assert js.count.tolist() == [1]
-    assert abs(js.arrays["jump_y"][0, 0] - at) <= tj.TOL_M / 2
+    assert abs(js.arrays["jump_y"][0, 0] - at) <= tjs.TOL_M / 2
     assert js.arrays["jump_kind"][0, 0] == 1 and js.arrays["jump_side"][0, 0] == 1
 
 
@@ -171,7 +174,7 @@ def test_a_cluster_of_jumps_is_located_from_the_poses_already_solved():
 
     js = tj.locate_jumps(out, y_axis, yaw_axis, solve, FLDS, refine=False)
     assert js.count.tolist() == [3]
-    assert np.abs(js.arrays["jump_y"][0, :3] - np.array(at)).max() <= tj.TOL_M / 2
+    assert np.abs(js.arrays["jump_y"][0, :3] - np.array(at)).max() <= tjs.TOL_M / 2
     assert js.arrays["jump_kind"][0, :3].tolist() == [2, 1, 2]
     assert len(calls) <= 10
 
@@ -515,9 +518,9 @@ def test_located_jumps_lie_where_direct_solves_put_them(tmp_path):
     scene = Scene.from_config(load_config(cfg))
 
     def change(a, b):
-        ka, kb = (tj._keys(pose_to_record(solve_pose(scene, y, 0.0, "reference"), FIELDS))
+        ka, kb = (tjs.state_key(pose_to_record(solve_pose(scene, y, 0.0, "reference"), FIELDS))
                   for y in (a, b))
-        return tj.classify(ka, kb, tj.CONFIRM_M)[0]
+        return tjs.classify(ka, kb, tjs.CONFIRM_M)[0]
 
     for y in jy:
         assert change(y - 1e-5, y + 1e-5), y
@@ -669,8 +672,8 @@ def flange_record(radius: float, *, delta: float = 5e-6, kappa: float = 0.0
     return rec
 
 
-def node_mesh(centroid: bool = False) -> tj.MeshResolution:
-    return tj.MeshResolution(np.full((2, 2), H), centroid)
+def node_mesh(centroid: bool = False) -> trf.MeshResolution:
+    return trf.MeshResolution(np.full((2, 2), H), centroid)
 
 
 def test_tolerances_follow_the_step_the_mesh_resolves():
@@ -679,18 +682,18 @@ def test_tolerances_follow_the_step_the_mesh_resolves():
     (kappa_w + kappa_r)), by 1/n of that; no mesh, or a conformal pair: the fixed tolerances."""
     kappa = 80.0
     recs = [flange_record(0.47, kappa=kappa)] * 3
-    tol = tj.tolerances(recs, node_mesh())
+    tol = trf.tolerances(recs, node_mesh())
     assert tol["rolling_radius"][0] == pytest.approx(0.5 * H * math.sin(GAMMA))
-    assert tol["rolling_radius"][1] == tj.REFINE_TOL["rolling_radius"]   # 0.003 rad: below
+    assert tol["rolling_radius"][1] == trf.REFINE_TOL["rolling_radius"]   # 0.003 rad: below
     assert tol["contact_angle"][0] == pytest.approx(0.5 * H * kappa)
     n = 2.0 * math.sqrt(2.0 * 5e-6 / (2 * kappa)) / H                   # 2.0 node columns
-    tol = tj.tolerances(recs, node_mesh(centroid=True))
+    tol = trf.tolerances(recs, node_mesh(centroid=True))
     assert tol["rolling_radius"][0] == pytest.approx(0.5 * H * math.sin(GAMMA) / n)
     assert tol["contact_angle"][0] == pytest.approx(0.5 * H * kappa / n)
-    assert tj.tolerances(recs, None) == tj.REFINE_TOL
+    assert trf.tolerances(recs, None) == trf.REFINE_TOL
     conformal = [flange_record(0.47, kappa=-1.0)] * 3
-    tol = tj.tolerances(conformal, node_mesh(centroid=True))
-    assert tol["rolling_radius"][0] == tj.REFINE_TOL["rolling_radius"]
+    tol = trf.tolerances(conformal, node_mesh(centroid=True))
+    assert tol["rolling_radius"][0] == trf.REFINE_TOL["rolling_radius"]
 
 
 def test_variation_below_the_mesh_step_is_not_chased_and_above_it_is_refined_to_it():
@@ -709,22 +712,22 @@ def test_variation_below_the_mesh_step_is_not_chased_and_above_it_is_refined_to_
         return flange_record(0.47 + a * math.sqrt(y))
 
     r0, r1 = onset(0.0, 0.0), onset(w, 0.0)
-    free = tj.refine_interval(0.0, r0, w, r1, 0.0, onset)
-    bounded = tj.refine_interval(0.0, r0, w, r1, 0.0, onset, mesh=node_mesh())
+    free = trf.refine_interval(0.0, r0, w, r1, 0.0, onset)
+    bounded = trf.refine_interval(0.0, r0, w, r1, 0.0, onset, mesh=node_mesh())
     # unbounded: the interval at the onset halves from 500 um while it is at least twice
     # MIN_WIDTH_M (10 um) wide (6 midpoints; its miss 0.207 a sqrt(w) stays above 1 um and
     # falls by 0.71), and its right siblings [w, 2w] (miss 0.0176 a sqrt(w) >= 1 um) are
     # refined too: 19 knots, the narrowest 7.8 um apart
     assert len(bounded) == 1 and len(free) >= 16
     gaps = np.diff([y for y, _ in free])
-    assert tj.MIN_WIDTH_M <= gaps.min() < 4 * tj.MIN_WIDTH_M   # down to the floor, never below
+    assert trf.MIN_WIDTH_M <= gaps.min() < 4 * trf.MIN_WIDTH_M   # down to the floor, never below
 
     c = 1e4                                      # 1/m: misses c w^2 / 4 = 625 um over 0.5 mm
 
     def bowl(y, yaw):
         return flange_record(0.47 + c * y * y)
 
-    knots = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl, mesh=node_mesh())
+    knots = trf.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl, mesh=node_mesh())
     ys = [0.0] + [y for y, _ in knots] + [w]
     widths = np.diff(ys)
     floor = 0.5 * step
@@ -742,8 +745,8 @@ def test_refine_scale_multiplies_every_tolerance_and_refines_to_it():
     parent does not, so a factor of 16 leaves knots 4 times wider."""
     recs = [flange_record(0.47, kappa=80.0)] * 3
     for mesh in (None, node_mesh(), node_mesh(centroid=True)):
-        base = tj.tolerances(recs, mesh)
-        same, scaled = tj.tolerances(recs, mesh, 1.0), tj.tolerances(recs, mesh, 3.0)
+        base = trf.tolerances(recs, mesh)
+        same, scaled = trf.tolerances(recs, mesh, 1.0), trf.tolerances(recs, mesh, 3.0)
         assert same.keys() == scaled.keys() == base.keys()
         for name in base:
             np.testing.assert_array_equal(same[name], base[name])
@@ -755,10 +758,10 @@ def test_refine_scale_multiplies_every_tolerance_and_refines_to_it():
 
     widths = {}
     for scale in (1.0, 16.0):
-        knots = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl,
+        knots = trf.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl,
                                    scale=scale)
         widths[scale] = np.diff([0.0] + [y for y, _ in knots] + [w])
-        tol = scale * tj.REFINE_TOL["rolling_radius"]
+        tol = scale * trf.REFINE_TOL["rolling_radius"]
         assert (c * (2 * widths[scale]) ** 2 / 4 <= tol).all()
         assert (c * (4 * widths[scale]) ** 2 / 4 > tol).all()
     assert widths[16.0].min() == pytest.approx(4 * widths[1.0].min())
@@ -766,7 +769,7 @@ def test_refine_scale_multiplies_every_tolerance_and_refines_to_it():
 
 
 def test_pchip_mid_is_the_tables_monotone_cubic():
-    """The refinement's scalar cubic (:func:`lutmpi.table.jumps.pchip_mid`, Python floats) is
+    """The refinement's scalar cubic (:func:`lutmpi.table.refine.pchip_mid`, Python floats) is
     the table's PCHIP through the same two to four knots, to the bit: monotone and
     non-monotone data, a flat secant, the piece's first and last interval."""
     rng = np.random.default_rng(7)
@@ -783,7 +786,7 @@ def test_pchip_mid_is_the_tables_monotone_cubic():
             i = 1 if has_left else 0
             xm = x[i] + rng.uniform() * (x[i + 1] - x[i])
             want = ti._predict_pchip(x, v[:, None], np.array([xm]))[0, 0]
-            assert tj.pchip_mid(x.tolist(), v.tolist(), has_left, float(xm)) == want
+            assert trf.pchip_mid(x.tolist(), v.tolist(), has_left, float(xm)) == want
             checked += 1
     assert checked > 500
 
@@ -807,7 +810,7 @@ def test_the_pose_is_refined_against_the_cubic_through_its_neighbours():
     slopes the knots had then; a knot's PCHIP slope moves when a neighbouring interval gains
     knots later (here 2.4 um between 1.5 and 1.75 mm, next to a knot whose neighbours end up
     62.5 and 250 um away), so the table built from them is held to half as much again."""
-    c, tol = 1e3, tj.REFINE_TOL["z_g"]
+    c, tol = 1e3, trf.REFINE_TOL["z_g"]
     y_axis = np.linspace(0.5e-3, 4e-3, 8)
     solve = _bowl_pose(c)
     recs = [solve(float(y), 0.0) for y in y_axis]
@@ -847,9 +850,9 @@ def test_contact_quantities_keep_the_straight_line_with_neighbours_given():
     def bowl(y, yaw):
         return flange_record(0.47 + c * y * y)
 
-    plain = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl)
+    plain = trf.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl)
     outer = ((-w, bowl(-w, 0.0)), (2 * w, bowl(2 * w, 0.0)))
-    given = tj.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl, outer=outer)
+    given = trf.refine_interval(0.0, bowl(0.0, 0.0), w, bowl(w, 0.0), 0.0, bowl, outer=outer)
     assert [y for y, _ in given] == [y for y, _ in plain] and len(plain) > 3
 
 
@@ -859,7 +862,7 @@ def test_neighbours_stay_in_the_piece():
     rec = flange_record(0.47)
     knots = [(0.0, rec, 0), (1.0, rec, 0), (2.0, rec, 0), (3.0, rec, 1), (4.0, rec, 1)]
     assert [(a and a[0], b and b[0]) for a, b in
-            (tj.neighbours(knots, k) for k in (0, 1, 3))] == [(None, 2.0), (0.0, None),
+            (trf.neighbours(knots, k) for k in (0, 1, 3))] == [(None, 2.0), (0.0, None),
                                                               (None, None)]
 
 
@@ -871,7 +874,7 @@ def test_records_cross_ranks_as_columns_unchanged():
     from lutmpi.parallel import jumps_step as js
 
     recs = [flange_record(0.47 + 1e-6 * k, kappa=float(k)) for k in range(5)]
-    jump = tj.Jump(3, 1e-3, 1.005e-3, recs[0], recs[1], 1, 2)
+    jump = tjs.Jump(3, 1e-3, 1.005e-3, recs[0], recs[1], 1, 2)
     done = [(0, ([jump], [(1e-3, recs[2])])), (4, [(2e-3, recs[3]), (3e-3, recs[4])])]
     back = js._unpack(*pickle.loads(pickle.dumps(js._pack(done))))
     assert back[0][0] == 0 and back[1][0] == 4
@@ -894,7 +897,7 @@ def test_records_of_grid_nodes_and_solves_cross_ranks_together():
 
     solved = [flange_record(0.47 + 1e-6 * k) for k in range(3)]
     node = dict(solved[0], compute_time=np.float64(1e-3))
-    jump = tj.Jump(0, 1e-3, 1.005e-3, node, solved[1], 1, 1)
+    jump = tjs.Jump(0, 1e-3, 1.005e-3, node, solved[1], 1, 1)
     for done in ([(0, ([jump], [(1e-3, solved[2])]))],                # the node's record first
                  [(0, ([], [(1e-3, solved[2])])), (1, ([jump], []))]):  # a solved one first
         back = js._unpack(*js._pack(done))
@@ -910,7 +913,7 @@ def test_a_cell_with_more_jumps_than_the_search_takes_is_reported(steps, in_part
     30 um from y = 0.1 mm): 5 jumps are all located; 11 exceed MAX_PER_CELL (8), the cell is
     searched in part, and that is reported (a warning naming the cell, and
     :func:`searched_in_part`), not left silent."""
-    assert tj.MAX_PER_CELL == 8
+    assert tjs.MAX_PER_CELL == 8
     at = 0.1e-3 + 30e-6 * np.arange(steps)
 
     def staircase(y: float, yaw: float) -> dict[str, np.ndarray]:
@@ -926,15 +929,15 @@ def test_a_cell_with_more_jumps_than_the_search_takes_is_reported(steps, in_part
     for i, y in enumerate(y_axis):
         for name, v in staircase(float(y), 0.0).items():
             arrays[name][i, 0] = v
-    cells = tj.candidate_cells(arrays)
+    cells = tjs.candidate_cells(arrays)
     assert cells == [(0, 1)]
-    res = [tj.refine_cell(arrays, y_axis, yaw_axis, c, staircase) for c in cells]
+    res = [tjs.refine_cell(arrays, y_axis, yaw_axis, c, staircase) for c in cells]
     jumps = res[0][0]
-    assert len(jumps) == min(steps, tj.MAX_PER_CELL)
+    assert len(jumps) == min(steps, tjs.MAX_PER_CELL)
     assert all(any(jp.lo < t <= jp.hi for t in at) for jp in jumps)
-    got = tj.searched_in_part(arrays, y_axis, cells, res)
+    got = tjs.searched_in_part(arrays, y_axis, cells, res)
     assert got == ([(0, 0.0, 0.5e-3)] if in_part else [])
-    with caplog.at_level("WARNING", logger="lutmpi.table.jumps"):
+    with caplog.at_level("WARNING", logger="lutmpi.table.jump_search"):
         tj.locate_jumps(arrays, y_axis, yaw_axis, staircase, FLDS, refine=False)
     assert ("located in part" in caplog.text) == in_part
 
@@ -974,12 +977,12 @@ def test_a_step_inside_a_fast_moving_contact_is_located_by_the_refinement():
     fast = _fast_flange(at)
     y_axis, yaw_axis = np.linspace(-2e-3, 4e-3, 13), np.array([0.0])
     arrays = _column(fast, y_axis)
-    assert tj.candidate_cells(arrays) == []
+    assert tjs.candidate_cells(arrays) == []
     assert tj.locate_jumps(arrays, y_axis, yaw_axis, fast, FLDS, refine=False).count.tolist() == [0]
     js = tj.locate_jumps(arrays, y_axis, yaw_axis, fast, FLDS)
     assert js.count.tolist() == [1]
     lo, hi = js.arrays["jump_y_lo"][0, 0], js.arrays["jump_y_hi"][0, 0]
-    assert lo < at <= hi and hi - lo <= tj.TOL_M
+    assert lo < at <= hi and hi - lo <= tjs.TOL_M
     assert js.arrays["jump_kind"][0, 0] == 1 and js.arrays["jump_side"][0, 0] == 1
     ip = ti.build(y_axis, yaw_axis, arrays, js.arrays, js.limits, js.knot_y, js.knots)
     off = ip.layout.slots["rolling_radius"][0]
@@ -1003,10 +1006,10 @@ def test_changes_that_cancel_within_a_cell_are_located_by_the_refinement():
 
     y_axis, yaw_axis = np.linspace(-0.5e-3, 1.0e-3, 4), np.array([0.0])
     arrays = _column(flicker, y_axis)
-    assert tj.candidate_cells(arrays) == []
+    assert tjs.candidate_cells(arrays) == []
     js = tj.locate_jumps(arrays, y_axis, yaw_axis, flicker, FLDS)
     assert js.count.tolist() == [2]
-    assert np.abs(js.arrays["jump_y"][0, :2] - np.array(at)).max() <= tj.TOL_M / 2
+    assert np.abs(js.arrays["jump_y"][0, :2] - np.array(at)).max() <= tjs.TOL_M / 2
     assert js.arrays["jump_kind"][0, :2].tolist() == [2, 2]
     ip = ti.build(y_axis, yaw_axis, arrays, js.arrays, js.limits, js.knot_y, js.knots)
     off = ip.layout.slots["n_contacts"][0]
@@ -1028,7 +1031,7 @@ def test_a_jump_the_refinement_finds_is_reflected_into_the_image_column():
             for name, v in fast(float(y), float(yaw)).items():
                 arrays[name][i, j] = v
     counts = {}
-    for mirror in (None, tj.Mirror.of(y_axis, yaw_axis, False)):
+    for mirror in (None, tm.Mirror.of(y_axis, yaw_axis, False)):
         calls: list[tuple[float, float]] = []
 
         def solve(y: float, yaw: float, calls: list = calls) -> dict[str, np.ndarray]:
@@ -1106,9 +1109,9 @@ def test_a_jump_the_refinement_finds_is_reflected_onto_the_other_wheel():
 
     y_axis, yaw_axis = np.linspace(-4e-3, 4e-3, 17), np.array([0.0])
     arrays = _column(pair, y_axis)
-    assert tj.candidate_cells(arrays) == []
+    assert tjs.candidate_cells(arrays) == []
     got = {}
-    for mirror in (None, tj.Mirror.of(y_axis, yaw_axis, True)):
+    for mirror in (None, tm.Mirror.of(y_axis, yaw_axis, True)):
         calls: list[float] = []
 
         def solve(y: float, yaw: float, calls: list = calls) -> dict[str, np.ndarray]:
@@ -1123,7 +1126,7 @@ def test_a_jump_the_refinement_finds_is_reflected_onto_the_other_wheel():
         assert js.count.tolist() == [2]
         lo, hi = js.arrays["jump_y_lo"][0, :2], js.arrays["jump_y_hi"][0, :2]
         assert lo[0] < -at + 1e-12 and -at - 1e-12 <= hi[0] and lo[1] < at <= hi[1]
-        assert (hi - lo).max() <= tj.TOL_M
+        assert (hi - lo).max() <= tjs.TOL_M
         assert js.arrays["jump_side"][0, :2].tolist() == [2, 1]
     np.testing.assert_allclose(mirrored.arrays["jump_y"], direct.arrays["jump_y"], atol=1e-15)
     # the one-sided limits are the branches: below -at the right wheel is past its step

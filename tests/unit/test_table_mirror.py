@@ -1,7 +1,7 @@
 """The jump step's mirror (``[output] mirror``): on a symmetric pair and a grid symmetric about
 (0, 0) the pose (-y, -yaw) is the pose (y, yaw) with the wheels swapped, and the jump step
-solves only one of each mirror pair of cells and intervals (``lutmpi/table/jumps.py``,
-:class:`~lutmpi.table.jumps.Mirror`).
+solves only one of each mirror pair of cells and intervals (``lutmpi/table/mirror.py``,
+:class:`~lutmpi.table.mirror.Mirror`).
 
 What makes that the same table: the production solver is mirror-symmetric to the bit, for every
 method and every stored field under :meth:`~lutmpi.table.schema.Field.mirrored`'s rules (a wrong
@@ -22,6 +22,7 @@ from lutmpi.paths import REPO_ROOT
 from lutmpi.scene import Scene
 from lutmpi.table import journal
 from lutmpi.table import jumps as tj
+from lutmpi.table import mirror as tm
 from lutmpi.table.compute import compute_points, default_solver, pose_to_record
 from lutmpi.table.grid import Grid
 from lutmpi.table.schema import (
@@ -50,9 +51,9 @@ def _equal(a, b) -> bool:
     return np.array_equal(np.asarray(a), np.asarray(b), equal_nan=True)
 
 
-SIDES_ = tj.Reflection(True, False)
-LONG = tj.Reflection(False, True)
-BOTH = tj.Reflection(True, True)
+SIDES_ = tm.Reflection(True, False)
+LONG = tm.Reflection(False, True)
+BOTH = tm.Reflection(True, True)
 
 
 def test_field_reflection_rules():
@@ -159,7 +160,7 @@ def test_mirrored_jump_step_is_symmetric_at_a_fraction_of_the_solves(manchester,
     reflection; the limits at a reflected jump's bracket ends are direct solves there (to
     rounding), so the bracket's ends and records are swapped right."""
     grid, arrays, solve, count, _ = _table(manchester, 13, nyaw)
-    mirror = tj.Mirror.of(grid.y, grid.yaw, True)
+    mirror = tm.Mirror.of(grid.y, grid.yaw, True)
     assert len(mirror.reflections) == (3 if nyaw == 3 else 1)
     direct = tj.locate_jumps(arrays, grid.y, grid.yaw, solve, LFIELDS)
     n_direct, count[0] = count[0], 0
@@ -200,7 +201,7 @@ def test_reflection_in_yaw_alone_is_the_direct_jump_step(manchester):
     what that reflection keeps), solving only the columns of yaw <= 0: every cell and
     interval of a column of yaw > 0 is found to be an image."""
     grid, arrays, solve, count, yaws = _table(manchester, 13, 3)
-    mirror = tj.Mirror.of(grid.y, grid.yaw, False)
+    mirror = tm.Mirror.of(grid.y, grid.yaw, False)
     assert mirror.reflections == (LONG,)
     direct = tj.locate_jumps(arrays, grid.y, grid.yaw, solve, LFIELDS)
     n_direct, count[0] = count[0], 0
@@ -262,7 +263,7 @@ def test_grid_plan_solves_one_point_per_orbit():
     ny, nyaw = 5, 3
     y, yaw = np.linspace(-2e-3, 2e-3, ny), np.linspace(-0.1, 0.1, nyaw)
     for pair, per in ((True, 4), (False, 2)):
-        mirror = tj.Mirror.of(y, yaw, pair)
+        mirror = tm.Mirror.of(y, yaw, pair)
         todo = np.arange(ny * nyaw)
         solve, images = mirror.grid_plan(todo)
         filled = [q for p in solve for q, _ in images[int(p)]]
@@ -276,7 +277,7 @@ def test_grid_plan_solves_one_point_per_orbit():
                 want = (ny - 1 - i if g.sides else i) * nyaw + (nyaw - 1 - j if g.flips_yaw
                                                                  else j)
                 assert q == want
-    mirror = tj.Mirror.of(y, yaw, True)
+    mirror = tm.Mirror.of(y, yaw, True)
     todo = np.arange(1, ny * nyaw)              # point 0 done before (a resumed build)
     solve, images = mirror.grid_plan(todo)
     orbit0 = {2, 12, 14}                        # (0, 2), (4, 2), (4, 0): 0's images
@@ -335,9 +336,9 @@ def test_records_from_other_ranks_reflect_in_columns_to_the_same_bits():
     got = _unpack(*_pack(recs))
     for g in (SIDES_, LONG, BOTH):
         for plain, col in zip(recs, got, strict=True):
-            assert isinstance(col, tj.ColumnRecord) and dict(col).keys() == plain.keys()
+            assert isinstance(col, tm.ColumnRecord) and dict(col).keys() == plain.keys()
             want, have = g.record(plain), g.record(col)
-            assert not isinstance(want, tj.ColumnRecord)
+            assert not isinstance(want, tm.ColumnRecord)
             for name in plain:
                 a, b = np.asarray(want[name]), np.asarray(have[name])
                 assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), (g, name)
