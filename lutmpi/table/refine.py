@@ -11,7 +11,9 @@ does not fall, so noise is not chased). Every pose solved after the build is kep
 extra knot of its column: the table is the grid plus what the jumps and the curvature of
 the contact needed. A jump no cell showed (changes that cancel within a cell, a step inside
 a fast-moving contact) shows in the refinement, which then searches that interval as a cell
-(:func:`refine_item`) and keeps the jumps it finds.
+(:func:`refine_item`) and keeps the jumps it finds; so does an interval where the halving
+stops whose contact still moves by more than :data:`CONFIRM_M` between its ends
+(:func:`_narrow`).
 """
 
 from __future__ import annotations
@@ -267,12 +269,13 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
     :data:`CUBIC_TESTED` goes through; a half's are the other end and the outer knot on its
     side.
 
-    A jump the grid-level search did not see shows here in one of two ways: a midpoint whose
+    A jump the grid-level search did not see shows here in one of three ways: a midpoint whose
     discrete state (status, contact count) differs from an end (two changes that cancel in
-    one cell), or a miss that does not fall when the interval halves while the contact point
+    one cell), a miss that does not fall when the interval halves while the contact point
     moves by more than :data:`CONFIRM_M` between the ends (a step hidden in a fast-moving
     contact: on a worn flange the contact ran 1.9 mm per mm of y and jumped 0.85 mm within
-    it, a rolling radius step of 1.4 mm that no cell's movement flagged). With ``found`` (a
+    it, a rolling radius step of 1.4 mm that no cell's movement flagged); and an interval too
+    narrow to halve whose contact still moves that far (:func:`_narrow`). With ``found`` (a
     list) the interval is then searched as a cell is (:func:`search_bracket`, with the poses it
     solved), the jumps appended to ``found`` (column ``iyaw``) and the pieces between them
     refined on their own; without it such a midpoint is dropped and the interval keeps its two
@@ -284,6 +287,8 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
         The solved poses ``(y, record)`` kept as knots, sorted by y.
     """
     if x1 - x0 < 2 * min_width:
+        if found is not None and classify(state_key(r0), state_key(r1), CONFIRM_M)[0]:
+            return _narrow(x0, r0, x1, r1, yaw, solve, found, iyaw)
         return []
     xm = x0 + 0.5 * (x1 - x0)
     rm = solve(xm, yaw)
@@ -314,6 +319,30 @@ def refine_interval(x0: float, r0: Record, x1: float, r1: Record, yaw: float, so
         return _split(x0, r0, x1, r1, (xm, rm), yaw, solve, found, iyaw, min_width, mesh,
                       scale, outer)
     return out
+
+
+def _narrow(x0: float, r0: Record, x1: float, r1: Record, yaw: float, solve: PoseSolver,
+            found: list[Jump], iyaw: int) -> list[tuple[float, Record]]:
+    """:func:`refine_interval` at its narrowest where the contact still moves by more than
+    :data:`CONFIRM_M` between the two ends: the interval searched as a cell's bracket is
+    (:func:`search_bracket`, one or two solves at this width), the jumps appended to
+    ``found``. A fold of the rigid roots reaches this: the contact runs up a square-root onset
+    (the miss falls by ~0.71 per halving, so the refinement goes on) and jumps at its end; on
+    a measured worn flange (the README's asymmetric pair, reference, yaw 0) the rolling radius
+    stepped by 2.4 mm between two knots 7.8 um apart, and the table ran a straight line
+    across it. Returns the poses solved but those strictly inside a bracket, sorted by y."""
+    samples: list[tuple[float, Record]] = []
+
+    def sampled(y: float) -> Record:
+        rec = solve(y, yaw)
+        samples.append((y, rec))
+        return rec
+
+    here = search_bracket(x0, r0, x1, r1, sampled, iyaw, TOL_M, CONFIRM_M, CONFIRM_M,
+                          MAX_PER_CELL, samples)
+    found.extend(sorted(here, key=lambda jp: jp.lo))
+    return sorted((p for p in samples if not any(jp.lo < p[0] < jp.hi for jp in here)),
+                  key=lambda p: p[0])
 
 
 def _split(x0: float, r0: Record, x1: float, r1: Record, mid: Knot, yaw: float,

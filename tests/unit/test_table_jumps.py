@@ -1133,3 +1133,78 @@ def test_a_jump_the_refinement_finds_is_reflected_onto_the_other_wheel():
     lo, hi = mirrored.arrays["jump_y_lo"][0, 0], mirrored.arrays["jump_y_hi"][0, 0]
     right = mirrored.limits["wheel_s"][0, 0, :, 1, 0]
     assert right.tolist() == pytest.approx([g(-lo), g(-hi)])
+
+
+def test_an_interval_at_the_refinements_floor_whose_contact_still_moves_is_searched():
+    """Two knots 7.8 um apart (narrower than twice MIN_WIDTH_M: the refinement halves no
+    further) whose primary contact lies 1.3 mm apart: the interval is searched as a cell's
+    bracket is, and the jump stored within TOL_M / 2 with a solve or two. Without ``found``
+    (nothing kept) and where the contact moves less than CONFIRM_M nothing is solved."""
+    at = 3.1e-6
+
+    def switch(y: float, yaw: float) -> dict[str, np.ndarray]:
+        rec = synthetic(-1e-3, yaw)
+        s = -0.0400 - 0.1 * y + (1.3e-3 if y >= at else 0.0)
+        rec["wheel_s"][:, 0] = [s, -y]
+        rec["rolling_radius"][:, 0] = [0.478 - s, 0.46]
+        return rec
+
+    w = 7.8e-6
+    assert w < 2 * trf.MIN_WIDTH_M
+    calls: list[float] = []
+
+    def solve(y: float, yaw: float) -> dict[str, np.ndarray]:
+        calls.append(y)
+        return switch(y, yaw)
+
+    r0, r1 = switch(0.0, 0.0), switch(w, 0.0)
+    assert trf.refine_interval(0.0, r0, w, r1, 0.0, solve) == [] and calls == []
+    found: list = []
+    knots = trf.refine_interval(0.0, r0, w, r1, 0.0, solve, found=found, iyaw=2)
+    assert len(found) == 1 and 1 <= len(calls) <= 2
+    jp = found[0]
+    assert jp.iyaw == 2 and jp.lo < at <= jp.hi and jp.hi - jp.lo <= tjs.TOL_M
+    assert jp.kind == 1 and jp.side == 1
+    assert all(not jp.lo < y < jp.hi for y, _ in knots)
+    calls.clear()
+    still = switch(w, 0.0)
+    still["wheel_s"][0, 0] = r0["wheel_s"][0, 0] + 0.4e-3      # moves less than CONFIRM_M
+    assert trf.refine_interval(0.0, r0, w, still, 0.0, solve, found=found) == []
+    assert calls == [] and len(found) == 1
+
+
+def test_a_primary_switch_between_knots_at_the_refinements_floor_is_in_the_table(tmp_path):
+    """The README's asymmetric pair at yaw -0.1 rad: the right wheel has two contacts between
+    y = -5.7793 and -5.7480 mm, and within that its primary contact (the larger force) moves
+    from the flange root to the flange at y = -5.7637 mm (rolling radius -2.4 mm). The cell
+    search bisects the contact count's changes; the switch fell between two of its samples
+    7.8 um apart, narrower than the refinement halves, and the table ran a straight line
+    across it (1.2 mm off in the middle). An interval at the refinement's floor whose
+    contact still moves by more than CONFIRM_M is now searched as a bracket."""
+    from lutmpi.pose.solve import solve_pose
+    from lutmpi.scene import Scene
+    from lutmpi.table import Table
+    from tests.support.tables import README_ASYMMETRIC
+
+    cfg = tmp_path / "asym.toml"
+    cfg.write_text(README_ASYMMETRIC + """[grid]
+y_mm = [-7.0, -5.0, 3]
+yaw_rad = [-0.1, -0.1, 1]
+[contact]
+method = "reference"
+""")
+    out = tmp_path / "a.h5"
+    assert main(["build", str(cfg), "-o", str(out)]) == 0
+    table = Table.open(out)
+    jy = table.jump_positions()[0]
+    jy = jy[np.isfinite(jy)]
+    assert np.abs(jy - (-5.7637e-3)).min() < 5e-6, jy * 1e3
+    scene = Scene.from_config(load_config(cfg))
+    y = np.array([-5.7700, -5.7690, -5.7600, -5.7590, -5.7560]) * 1e-3
+    assert np.abs(y[:, None] - jy[None, :]).min() > 3e-6
+    q = table.interp(y, np.full(y.size, -0.1))
+    for i, yi in enumerate(y):
+        r = solve_pose(scene, float(yi), -0.1, "reference")
+        right = max(r.contacts["right"], key=lambda c: float(c.force))
+        assert abs(q["rolling_radius"][i][1, 0] - right.rolling_radius) < 20e-6, yi
+        assert abs(q["z_g"][i] - r.z_g) < 2e-6, yi
