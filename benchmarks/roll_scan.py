@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from lutmpi.config import load_config  # noqa: E402
-from lutmpi.contact import rigid_kernels as rk  # noqa: E402
+from lutmpi.contact import roll_scan as rs  # noqa: E402
 from lutmpi.contact.locus import SCAN_STEP  # noqa: E402
 from lutmpi.pose.solve import solve_pose, warm  # noqa: E402
 from lutmpi.scene import Scene  # noqa: E402
@@ -45,8 +45,8 @@ def main() -> None:
 
     def scan(y: float, yaw: float) -> np.ndarray:
         args = (lo, hi, SCAN_STEP, L.lipschitz, float(yaw), float(y), *L._scan_sides)
-        return rk.scan_adaptive(*args, bound)[0] if bound is not None else \
-            rk.scan_adaptive(*args)[0]
+        return rs.scan_adaptive(*args, bound)[0] if bound is not None else \
+            rs.scan_adaptive(*args)[0]
 
     scan(*poses[0])
     points, t = 0, time.process_time()

@@ -25,7 +25,9 @@ from functools import partial
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from lutmpi.contact import local_root as lr
 from lutmpi.contact import rigid_kernels as rk
+from lutmpi.contact import roll_scan as rs
 from lutmpi.geometry.track import SIDES, PlacedRail, WheelGeometry
 
 
@@ -195,7 +197,7 @@ class LocusSide:
     @property
     def scan_args(self) -> tuple:
         """This side's arguments of the compiled roll scan
-        (:func:`~lutmpi.contact.rigid_kernels.scan`): the coarse indices, :attr:`local_args`
+        (:func:`~lutmpi.contact.roll_scan.scan`): the coarse indices, :attr:`local_args`
         and contiguous copies of the coarse samples."""
         sp, c = self.samp, self.coarse
         return (c, *self.local_args, sp.s[c].copy(), sp.r[c].copy(), sp.dr[c].copy())
@@ -272,10 +274,10 @@ class LocusSolver:
         self._loci: dict[tuple[float, float, float], tuple] = {}
         self._scan_sides = tuple(self.sides[name].scan_args for name in SIDES)
         self._local_sides = tuple(self.sides[name].local_args for name in SIDES)
-        # the scan's local bound (:func:`~lutmpi.contact.rigid_kernels.scan_adaptive`): each
+        # the scan's local bound (:func:`~lutmpi.contact.roll_scan.scan_adaptive`): each
         # wheel's share of the bound, the end roll's sine and each rail's slope table
         self._scan_bound = (*self.side_lipschitz, self.scan_sine,
-                            *(rk.slope_table(self.sides[name].rail.height_table[2],
+                            *(rs.slope_table(self.sides[name].rail.height_table[2],
                                              float(self.sides[name].rail.height_table[1]))
                               for name in SIDES))
         self._ends = np.array([[(s, r, self.sides[name].zmax) for s, r in self.sides[name].ends]
@@ -333,7 +335,7 @@ class LocusSolver:
         """Touching heights (left, right) of G at this roll; ``sub`` restricts each side's
         samples (sorted indices)."""
         idx = [sd.samp.all_idx if sub is None else sub[name] for name, sd in self.sides.items()]
-        zl, zr, _, _ = rk.heights(float(y), float(yaw), float(roll), *self._local_sides,
+        zl, zr, _, _ = lr.heights(float(y), float(yaw), float(roll), *self._local_sides,
                                   idx[0], idx[1], np.empty(idx[0].size), np.empty(idx[1].size))
         return zl, zr
 
@@ -346,45 +348,45 @@ class LocusSolver:
                                                                                    int]:
         """Secant iteration on ``h`` from roll 0 on the samples near the gap minima, checked on
         the whole profile (solved again if the minimum moved: a contact jump); compiled
-        (:func:`lutmpi.contact.rigid_kernels.local_root`). Returns the roll (None when the
+        (:func:`lutmpi.contact.local_root.local_root`). Returns the roll (None when the
         iteration finds no root) and the number of ``h`` evaluations."""
-        roll, calls, status, full = rk.local_root(float(y), float(yaw), float(xtol),
+        roll, calls, status, full = lr.local_root(float(y), float(yaw), float(xtol),
                                                   int(max_secant), float(self.lever),
                                                   *self._local_sides)
-        if status == rk.LOCAL_OK:
+        if status == lr.LOCAL_OK:
             self._loci[(float(y), float(yaw), float(roll))] = full
-        if status == rk.LOCAL_NOCONV:  # SciPy's brentq raised these
-            raise RuntimeError(f"Failed to converge after {rk.BRENTQ_ITER} iterations, value "
+        if status == lr.LOCAL_NOCONV:  # SciPy's brentq raised these
+            raise RuntimeError(f"Failed to converge after {lr.BRENTQ_ITER} iterations, value "
                                f"is {roll}.")
-        if status == rk.LOCAL_NAN:
+        if status == lr.LOCAL_NAN:
             raise ValueError(f"The function value at x={roll} is NaN; solver cannot continue.")
-        return (float(roll) if status == rk.LOCAL_OK else None), int(calls)
+        return (float(roll) if status == lr.LOCAL_OK else None), int(calls)
 
     # -- the scan over the admissible roll range ---------------------------------------------
     def scan(self, y: float, yaw: float, rolls: np.ndarray | None = None) -> np.ndarray:
         """``h`` on the scan grid (coarse wheel samples); NaN where a wheel misses its rail."""
         rolls = self.scan_rolls if rolls is None else np.asarray(rolls, dtype=float)
-        return rk.scan(rolls, float(yaw), float(y), *self._scan_sides)
+        return rs.scan(rolls, float(yaw), float(y), *self._scan_sides)
 
     def brackets(self, y: float, yaw: float) -> list[tuple[float, float, bool]]:
         """Roll intervals holding one root each, with its stability: ``(a, b, stable)``. The
         scan steps by at least ``max(SCAN_STEP, |h| / lipschitz)`` and, where both ends
-        certify it root-free, by up to twice that (:func:`~lutmpi.contact.rigid_kernels.
+        certify it root-free, by up to twice that (:func:`~lutmpi.contact.roll_scan.
         scan_adaptive`): no root is skipped, and far from the roots the scan takes long steps.
         The bisections and extremum searches of :func:`find_brackets` run compiled."""
         y, yaw, sides = float(y), float(yaw), self._scan_sides
-        x, h = rk.scan_adaptive(float(self.scan_rolls[0]), float(self.scan_rolls[-1]), SCAN_STEP,
+        x, h = rs.scan_adaptive(float(self.scan_rolls[0]), float(self.scan_rolls[-1]), SCAN_STEP,
                                 self.lipschitz, yaw, y, *sides, self._scan_bound)
         return find_brackets(
             x, lambda r: self.scan(y, yaw, r), h=h, lip=self.lipschitz,
-            edge=lambda a, b, n: rk.edge_bisect(a, b, n, yaw, y, sides),
-            extremum=lambda lo, hi, sgn, n: rk.bounded_min(lo, hi, sgn, DIP_XTOL, n, yaw, y, sides))
+            edge=lambda a, b, n: rs.edge_bisect(a, b, n, yaw, y, sides),
+            extremum=lambda lo, hi, sgn, n: rs.bounded_min(lo, hi, sgn, DIP_XTOL, n, yaw, y, sides))
 
     def warm(self) -> None:
         """Load (or compile) the compiled searches a pose may not reach (the extremum search
         and the NaN-edge bisection of :meth:`brackets`)."""
-        rk.bounded_min(-SCAN_STEP, SCAN_STEP, 1.0, DIP_XTOL, 3, 0.0, 0.0, self._scan_sides)
-        rk.edge_bisect(0.0, SCAN_STEP, 2, 0.0, 0.0, self._scan_sides)
+        rs.bounded_min(-SCAN_STEP, SCAN_STEP, 1.0, DIP_XTOL, 3, 0.0, 0.0, self._scan_sides)
+        rs.edge_bisect(0.0, SCAN_STEP, 2, 0.0, 0.0, self._scan_sides)
 
     # -- the solve ---------------------------------------------------------------------------
     def solve(self, y: float, yaw: float, xtol: float = 1e-13,
@@ -587,7 +589,7 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
         range is found by bisection (a root can sit between a scan point and a NaN range, on
         either side of roll 0), and every dip of ``|h|`` toward zero between scan points is
         searched for its extremum (two close roots can hide between two scan points); where
-        ``h`` folds beside a sign change (:func:`~lutmpi.contact.rigid_kernels.
+        ``h`` folds beside a sign change (:func:`~lutmpi.contact.roll_scan.
         bracket_searches`: three roots within a scan step) the two steps next to the fold are
         scanned at a quarter step first (``hfun`` at six more rolls).
     """
@@ -598,7 +600,7 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
     if extremum is None:
         extremum = partial(_extremum_by, hfun)
     # compiled: which NaN edges and dips need a search, and the brackets of all the points
-    edges, dips, folds = rk.bracket_searches(x, h, float(lip))
+    edges, dips, folds = rs.bracket_searches(x, h, float(lip))
     if folds.size and hfun is not None:
         # a fold beside a sign change: both steps next to it scanned at a quarter step, and
         # the searches then run on the finer scan (its sign changes and dips)
@@ -609,7 +611,7 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
         h2 = np.concatenate([h, np.asarray(hfun(xs), dtype=float)])
         order = np.argsort(x2, kind="stable")
         x, h = np.ascontiguousarray(x2[order]), np.ascontiguousarray(h2[order])
-        edges, dips, _ = rk.bracket_searches(x, h, float(lip))
+        edges, dips, _ = rs.bracket_searches(x, h, float(lip))
     extra = [edge(a, b, n_bisect) for a, b in edges.tolist()]
     for i in dips.tolist():
         sgn = 1.0 if h[i] > 0 else -1.0
@@ -619,7 +621,7 @@ def find_brackets(x: np.ndarray, hfun, n_bisect: int = 30, n_golden: int = 30,
     if extra:
         X = np.concatenate([x, [float(p[0]) for p in extra]])
         H = np.concatenate([h, [float(p[1]) for p in extra]])
-    a, b, stable = rk.bracket_ends(x, h, X, H)
+    a, b, stable = rs.bracket_ends(x, h, X, H)
     return list(zip(a.tolist(), b.tolist(), stable.tolist(), strict=True))
 
 

@@ -20,8 +20,9 @@ import pytest
 
 from lutmpi.config.load import load_config
 from lutmpi.contact import rigid_kernels as rk
+from lutmpi.contact import roll_scan as rs
 from lutmpi.contact.locus import DIP_XTOL, _edge_by, _extremum_by, find_brackets
-from lutmpi.contact.rigid_kernels import bounded_min, edge_bisect
+from lutmpi.contact.roll_scan import bounded_min, edge_bisect
 from lutmpi.equilibrium.result import CONVERGED, NO_CONTACT, PROFILE_END
 from lutmpi.equilibrium.solver import EquilibriumOptions
 from lutmpi.pose.solve import solve_pose
@@ -242,8 +243,8 @@ def test_compiled_searches_equal_the_python_ones_to_the_bit(thinned_scene):
 
 
 def _scan_point(L, y, yaw, x):
-    """The scan's point at roll ``x`` (:func:`rk._scan_info`)."""
-    return rk._scan_info(x, yaw, y, *L._scan_sides, *rk._scratch(*L._scan_sides))
+    """The scan's point at roll ``x`` (:func:`rs._scan_info`)."""
+    return rs._scan_info(x, yaw, y, *L._scan_sides, *rs._scratch(*L._scan_sides))
 
 
 def _global_only(bound):
@@ -270,19 +271,19 @@ def test_two_point_scan_skips_no_root_and_fewer_points(thinned_scene):
         for lip, bound in ((L.lipschitz, L._scan_bound),
                            (3.0, (1.5, 1.5, *L._scan_bound[2:])),
                            (L.lipschitz, _global_only(L._scan_bound))):
-            x, h = rk.scan_adaptive(lo, hi, SCAN_STEP, lip, yaw, y, *sides, bound)
+            x, h = rs.scan_adaptive(lo, hi, SCAN_STEP, lip, yaw, y, *sides, bound)
             assert x[0] == lo and x[-1] == hi and np.all(np.diff(x) > 0)
             assert np.array_equal(h, L.scan(y, yaw, x), equal_nan=True)
-            yt = rk._yaw_terms(yaw, bound[2])
+            yt = rs._yaw_terms(yaw, bound[2])
             for a, b in zip(x[:-1], x[1:], strict=True):
                 dx = b - a
                 pa, pb = _scan_point(L, y, yaw, a), _scan_point(L, y, yaw, b)
-                one = rk._one_step(pa, lip, yt, *sides, bound) >= dx * (1 - 1e-12)
-                two = rk._certified(pa, pb, dx, lip, yt, *sides, bound)
+                one = rs._one_step(pa, lip, yt, *sides, bound) >= dx * (1 - 1e-12)
+                two = rs._certified(pa, pb, dx, lip, yt, *sides, bound)
                 assert one or two or dx <= SCAN_STEP * (1 + 1e-9), (y, yaw, lip, a, b)
-        x, h = rk.scan_adaptive(lo, hi, SCAN_STEP, L.lipschitz, yaw, y, *sides, L._scan_bound)
+        x, h = rs.scan_adaptive(lo, hi, SCAN_STEP, L.lipschitz, yaw, y, *sides, L._scan_bound)
         n_local += x.size
-        n_global += rk.scan_adaptive(lo, hi, SCAN_STEP, L.lipschitz, yaw, y, *sides,
+        n_global += rs.scan_adaptive(lo, hi, SCAN_STEP, L.lipschitz, yaw, y, *sides,
                                      _global_only(L._scan_bound))[0].size
         hfun = lambda r, y=y, yaw=yaw: L.scan(y, yaw, r)  # noqa: E731
         roots = lambda br: [0.5 * (a + b) for a, b, _ in br]  # noqa: E731
@@ -324,11 +325,11 @@ def test_the_scans_local_bound_holds(pair):
     sides, bound = L._scan_sides, L._scan_bound
     lo, hi = float(L.scan_rolls[0]), float(L.scan_rolls[-1])
     rng = np.random.default_rng(15)
-    sc = rk._scratch(*sides)
+    sc = rs._scratch(*sides)
     checked, ratios, tight = 0, [], 0.0
     for _ in range(24):
         y, yaw = rng.uniform(-10, 10) * MM, rng.choice([0.0, 0.03, -0.07, 0.12, -0.12])
-        yt = rk._yaw_terms(yaw, bound[2])
+        yt = rs._yaw_terms(yaw, bound[2])
         for a in rng.uniform(lo, hi, 3):
             for side, sgn, st, share, gap in ((sides[0], 1.0, bound[3], bound[0], sc[0]),
                                               (sides[1], -1.0, bound[4], bound[1], sc[1])):
@@ -338,7 +339,7 @@ def test_the_scans_local_bound_holds(pair):
                     continue
                 ga = gap[ib]
                 for dx in (5e-4, 2e-3, 8e-3):
-                    le = rk.local_slope_bound(side, st, *yt, bound[2], ib, u, dx)
+                    le = rs.local_slope_bound(side, st, *yt, bound[2], ib, u, dx)
                     if not np.isfinite(le):
                         continue
                     ratios.append(le / share)
