@@ -251,7 +251,7 @@ def _geometry_arrays(v, wp_i, nrm_i, pc_i):  # noqa: ANN001, ANN202
 class TableProvider:
     """Contact geometry from a table's compiled, jump-aware lookup.
 
-    One call of :func:`lutmpi.table.interp.lookup_point` gives every stored quantity at the pose
+    One call of :func:`lutmpi.table.lookup.lookup_point` gives every stored quantity at the pose
     with its y and yaw slopes (the z_g / roll slopes the dynamics needs are the interpolant's
     analytic derivatives), which side of the jumps answered, and whether the pose is inside the
     table. The flange angle (Nadal's limit) is the table's ``wheel_flange_angle`` attribute,
@@ -270,7 +270,7 @@ class TableProvider:
     """
 
     def __init__(self, table: Any, method: str | None = None) -> None:
-        from lutmpi.table.interp import lookup_point
+        from lutmpi.table.lookup import lookup_point
 
         self.table = table
         self.method = method or table.methods[0]

@@ -43,7 +43,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("lutmpi.table.schema",),
     ("lutmpi.pose",),
     ("lutmpi.table.compute", "lutmpi.table.grid", "lutmpi.table.interp", "lutmpi.table.jumps",
-     "lutmpi.table.jump_search", "lutmpi.table.refine", "lutmpi.table.mirror"),
+     "lutmpi.table.jump_search", "lutmpi.table.refine", "lutmpi.table.mirror",
+     "lutmpi.table.lookup"),
     ("lutmpi.dynamics",),
 )
 #: the only modules (or packages, by prefix) that may import mpi4py or h5py

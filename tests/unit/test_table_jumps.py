@@ -94,7 +94,7 @@ def test_a_query_across_a_jump_never_returns_a_blend(synthetic_table):
     interpolation over the grid nodes blends them (by millimetres). The branches here are
     linear in y and stay put while the jump moves with yaw: read at y the jump-aware answer
     would be exact; within a grid step of the jump each column is read at the query's distance
-    from its own jump instead (``interp._warp``: a flange onset moves with its jump), which
+    from its own jump instead (``lookup._warp``: a flange onset moves with its jump), which
     for branches that stay put costs their slope times the jump's shift between the columns
     (here up to 0.5 um)."""
     y_axis, yaw_axis, arrays, _, ip, _ = synthetic_table
@@ -329,7 +329,7 @@ def test_a_steep_onset_moving_with_its_jump_is_read_at_the_jump_distance_in_each
     """Beside a flange jump the contact runs up a steep onset that moves with the jump (here
     0.47 + 2 mm * sqrt(u / 1 mm), u the distance above the jump, which moves 40 um per 10 mrad
     column). Between columns each column is read at the query's distance from its own jump
-    (``interp._warp``), so the columns agree and the blend is the onset itself; read at the same
+    (``lookup._warp``), so the columns agree and the blend is the onset itself; read at the same
     y they sit at points of the onset 40 um apart and the blend misses it by up to 38 um (with
     the warp off, ``WARP_STEPS = 0``; 0.017 um with it, the columns' own interpolation)."""
     at = lambda yaw: 0.2e-3 + 0.004 * yaw                          # noqa: E731 - m
