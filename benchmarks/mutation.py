@@ -323,6 +323,13 @@ MUTATIONS: tuple[Mutation, ...] = (
       "        inside = []\n", (T_JUMPS,),
       "each jump of a cluster bisected afresh from its whole sub-interval (the pre-2026-11-27 "
       "search: ~30 % more search solves)"),
+    M("narrow_not_searched", "jump-aware tables", "lutmpi/table/refine.py",
+      "        if found is not None and classify(state_key(r0), state_key(r1), CONFIRM_M)[0]:\n"
+      "            return _narrow(",
+      "        if False and classify(state_key(r0), state_key(r1), CONFIRM_M)[0]:\n"
+      "            return _narrow(", (T_JUMPS,),
+      "an interval too narrow to halve whose contact still moves by more than 0.5 mm is left "
+      "to the straight line (the pre-2026-11-28 refinement)"),
     M("roll_even_in_y", "jump-aware tables", "lutmpi/table/schema.py",
       '"roll angle theta_x", signs=(-1, 1)),', '"roll angle theta_x", signs=(1, 1)),',
       (T_MIRROR,), "a symmetric pair's reflection y -> -y keeps the roll's sign (the mirrored "
