@@ -546,8 +546,8 @@ def scan_side_info(sgn, side, R, y, gap, fine, U, PZ):
     coarse sample lay 26 mm above the smallest: no band bounds it); -inf when no point is over
     the rail. Returns ``(z, z_c, ib, u)``: the height, minus the smallest coarse sample's own
     gap (``z >= z_c``: the refinement only raises it), that sample's index among the coarse
-    ones (-1 when none) and its lateral rail coordinate (m), which :func:`local_slope_bound`
-    bounds the scan's steps by."""
+    ones (-1 when none) and its lateral rail coordinate (m), which
+    :func:`~lutmpi.contact.roll_scan.local_slope_bound` bounds the scan's steps by."""
     idx, s, r, dr, d, tab, lim, s_c, r_c, dr_c = side
     h, ib = run_gaps(sgn, s_c, r_c, dr_c, d, R, y, lim[0], lim[1], tab, lim[2], lim[3], gap, U,
                      PZ, COARSE)

@@ -19,37 +19,37 @@ Representation (built once per table and method, :func:`build`):
   to mean the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
   another cluster gains one (on the Manchester 37x37 load-centre table, pairing by index put
   jumps 4 mm apart together and the rolling radius between those columns erred by up to 8.9 mm).
-* A paired jump's position at the query's yaw lies on its jump curve, a cubic in yaw through
-  its positions in up to four columns (:func:`_jump_at`); it decides the side for both columns.
-  An unpaired jump decides only for its own column.
-* Along yaw: a cubic (Catmull-Rom: centred-difference slopes from the outer columns j - 1 and
-  j + 2) between the two neighbouring columns, every column evaluated *on the same side of the
-  same jump curve*. A column whose own jump lies on the other side of the query is evaluated by
-  extending its piece (never a blend of two sides). The contact varies about quadratically with
-  yaw (evenly around yaw 0), which linear blending misses by c h^2 / 4: 59 um of rolling radius
-  on the Manchester flange at 5 mrad steps, 4.8 um with the cubic. The cubic needs the two
-  columns' pieces bounded by paired jumps (or the grid's ends); an outer column answers where its
-  piece corresponds too, else the slope there is the second-order one-sided one (in an edge cell
-  too), or the secant when neither outer column answers. Where the two pieces do not correspond
-  (a jump without a partner bounds one of them) the blend is linear. On a column the yaw slope
-  is the cubic's (the same from either cell).
+* A paired jump's position at the query's yaw lies on its jump curve, a cubic in yaw through its
+  positions in up to four columns (:func:`~lutmpi.table.lookup._jump_at`); it decides the side for
+  both columns. An unpaired jump decides only for its own column.
+* Along yaw: a cubic (Catmull-Rom: centred-difference slopes from the outer columns j - 1 and j +
+  2) between the two neighbouring columns, every column evaluated *on the same side of the same
+  jump curve*. A column whose own jump lies on the other side of the query is evaluated by
+  extending its piece (never a blend of two sides). The contact varies about quadratically with yaw
+  (evenly around yaw 0), which linear blending misses by c h^2 / 4: 59 um of rolling radius on the
+  Manchester flange at 5 mrad steps, 4.8 um with the cubic. The cubic needs the two columns' pieces
+  bounded by paired jumps (or the grid's ends); an outer column answers where its piece corresponds
+  too, else the slope there is the second-order one-sided one (in an edge cell too), or the secant
+  when neither outer column answers. Where the two pieces do not correspond (a jump without a
+  partner bounds one of them) the blend is linear. On a column the yaw slope is the cubic's (the
+  same from either cell).
 * Beside a paired jump (within :data:`~lutmpi.table.lookup.WARP_STEPS` grid steps of y), the
   quantities that jump are read in each column at the query's distance from that column's own jump,
-  not at the query's y (:func:`_warp`): the contact runs up a steep onset next to a flange jump, and
-  two columns read at one y sit at different points of it (on the paper and Manchester 37x37
-  load-centre tables, 15 and 17 of ~2 850 poses between columns erred by more than 0.1 mm of rolling
-  radius read at y, 8 and 9 read so). Not where a jump moves more than a quarter of that reach
-  between the columns (a branch that stays put in y while its jump moves), nor in a piece narrower
-  than :data:`~lutmpi.table.lookup.NARROW_STEPS` grid steps (a flickering second contact, whose
-  cluster of jumps pairs arbitrarily); an outer column that cannot be read so gives those quantities
-  no slope. The wheelset's pose is read at y.
+  not at the query's y (:func:`~lutmpi.table.lookup._warp`): the contact runs up a steep onset next
+  to a flange jump, and two columns read at one y sit at different points of it (on the paper and
+  Manchester 37x37 load-centre tables, 15 and 17 of ~2 850 poses between columns erred by more than
+  0.1 mm of rolling radius read at y, 8 and 9 read so). Not where a jump moves more than a quarter
+  of that reach between the columns (a branch that stays put in y while its jump moves), nor in a
+  piece narrower than :data:`~lutmpi.table.lookup.NARROW_STEPS` grid steps (a flickering second
+  contact, whose cluster of jumps pairs arbitrarily); an outer column that cannot be read so gives
+  those quantities no slope. The wheelset's pose is read at y.
 * A piece is extended by at most :data:`~lutmpi.table.lookup.EXTEND_STEPS` grid steps for the
   quantities that jump with the contact (:func:`_jumping`: contact points, radii, angles, forces):
   farther, that column does not answer them and the other column, whose piece holds the query,
-  answers alone (an outer column gives no slope). Next to a flange jump the contact runs up steeply,
-  and a piece extended across that onset errs by millimetres. The wheelset's pose (z_g, roll) only
-  kinks at a jump and is interpolated as above. Flag :data:`UNMATCHED`: a linear blend, or one
-  column answering.
+  answers alone (an outer column gives no slope). Next to a flange jump the contact runs up
+  steeply, and a piece extended across that onset errs by millimetres. The wheelset's pose (z_g,
+  roll) only kinks at a jump and is interpolated as above. Flag :data:`UNMATCHED`: a linear blend,
+  or one column answering.
 
 Queries:
 

@@ -55,8 +55,8 @@ MAX_PER_CELL = 8
 Record = dict[str, np.ndarray]
 PoseSolver = Callable[[float, float], Record]
 Knot = tuple[float, Record]
-#: one refinement interval: ``(iyaw, (x0, r0), (x1, r1), outer)`` (:func:`refine_interval`'s
-#: ends and outer knots)
+#: one refinement interval: ``(iyaw, (x0, r0), (x1, r1), outer)`` (the ends and outer knots
+#: of :func:`~lutmpi.table.refine.refine_interval`)
 Item = tuple[int, Knot, Knot, tuple[Knot | None, Knot | None]]
 
 @dataclass(frozen=True)

@@ -116,8 +116,9 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
                  mesh: MeshResolution | None = None, scale: float = 1.0,
                  mirror: Mirror | None = None, **kw: Any) -> JumpSet:
     """Every jump of one method of a table, and the refinement knots, serially (the steps the
-    build runs in parallel: :func:`candidate_cells`, :func:`refine_cell`, :func:`column_knots`,
-    :func:`refine_interval` with the factor ``scale`` on its tolerances, :func:`assemble`;
+    build runs in parallel: :func:`candidate_cells`, :func:`refine_cell`,
+    :func:`~lutmpi.table.refine.column_knots`, :func:`~lutmpi.table.refine.refine_interval`
+    with the factor ``scale`` on its tolerances, :func:`assemble`;
     ``mirror``: a cell or an interval that is the image of another searched or refined
     before it takes that one's poses reflected, not solved)."""
     cells = candidate_cells(arrays, kw.get("threshold", CANDIDATE_M))

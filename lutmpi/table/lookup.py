@@ -216,7 +216,7 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     (the columns j - 1 .. j + 2 around the query's yaw, rows 0-3 read at ``y``, rows 4-7 where
     :func:`_warp` moves them, for the quantities that jump).
 
-    Returns ``(flags, piece, jump_dist)`` (see :meth:`Interpolator.evaluate`).
+    Returns ``(flags, piece, jump_dist)`` (see :meth:`~lutmpi.table.interp.Interpolator.evaluate`).
     """
     q = kv.shape[2]
     na = yaw_axis.size
@@ -445,7 +445,8 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
 
 @numba.njit(cache=True)
 def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # noqa: ANN001
-    """:func:`lookup_one` over a batch (``arrays`` = :attr:`Interpolator.arrays`)."""
+    """:func:`lookup_one` over a batch (``arrays``:
+    :attr:`~lutmpi.table.interp.Interpolator.arrays`)."""
     y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps = arrays
     q = kv.shape[2]
     tmp_v = np.empty((8, q))
@@ -460,8 +461,9 @@ def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # n
 
 @numba.njit(cache=True)
 def lookup_point(arrays, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):  # noqa: ANN001
-    """:func:`lookup_one` for one pose (``arrays`` = :attr:`Interpolator.arrays`): the compiled
-    lookup of the dynamics; returns ``(flags, piece, jump_dist)``."""
+    """:func:`lookup_one` for one pose (``arrays``:
+    :attr:`~lutmpi.table.interp.Interpolator.arrays`): the compiled lookup of the dynamics;
+    returns ``(flags, piece, jump_dist)``."""
     y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps = arrays
     return lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps, y,
                       yaw, out_v, out_dy, out_dw, tmp_v, tmp_d)

@@ -28,9 +28,9 @@ class ColumnRecord(dict):
     _share`, on one rank too). A plain dict of those rows to every reader, and read-only (its
     values are views of shared columns, and its reflection reads the columns);
     :meth:`Reflection.record` reflects it by reflecting its columns once for all their rows
-    (:meth:`Field.reflected_column`) instead of one record at a time: a mirrored jump step
-    takes ~3 records reflected per record solved (docs/TABLES.md, § Reflections), on every
-    rank. Made by :meth:`at`."""
+    (:meth:`~lutmpi.table.schema.Field.reflected_column`) instead of one record at a time: a
+    mirrored jump step takes ~3 records reflected per record solved (docs/TABLES.md,
+    § Reflections), on every rank. Made by :meth:`at`."""
 
     __slots__ = ("columns", "row", "images")
 
@@ -221,7 +221,7 @@ class Mirror:
 
     def cell_result(self, g: Reflection, res: tuple[list[Jump], list[tuple[float, Record]]]
                     ) -> tuple[list[Jump], list[tuple[float, Record]]]:
-        """:func:`refine_cell`'s result for the image of its cell."""
+        """:func:`~lutmpi.table.jump_search.refine_cell`'s result for the image of its cell."""
         jps, samples = res
         jps = [self.jump(g, jp) for jp in jps]
         return (jps[::-1] if g.sides else jps), self.samples(g, samples)
@@ -260,9 +260,9 @@ class Mirror:
         return mirror_pairs(cells, [(g, image(g)) for g in self.reflections])
 
     def items(self, items: Sequence[Item]) -> Pairs:
-        """:func:`mirror_pairs` of refinement intervals (:func:`refinement_plan`): an image
-        has the reflected ends and outer knots (swapped where y changes sign) in the image's
-        column."""
+        """:func:`mirror_pairs` of refinement intervals
+        (:func:`~lutmpi.table.refine.refinement_plan`): an image has the reflected ends and
+        outer knots (swapped where y changes sign) in the image's column."""
         def key(it: Item) -> tuple:
             j, a, b, (o0, o1) = it
             return (j, a[0], b[0], None if o0 is None else o0[0], None if o1 is None else o1[0])

@@ -423,7 +423,8 @@ def refine_item(iyaw: int, x0: float, r0: Record, x1: float, r1: Record, yaw: fl
         Sorted by y.
     samples : list of (float, dict)
         The poses solved and kept as knots ``(y, record)``, sorted by y: the shape of
-        :func:`refine_cell`'s result, and reflected as it is (:meth:`Mirror.cell_result`).
+        :func:`~lutmpi.table.jump_search.refine_cell`'s result, and reflected as it is
+        (:meth:`~lutmpi.table.mirror.Mirror.cell_result`).
     """
     found: list[Jump] = []
     knots = refine_interval(x0, r0, x1, r1, yaw, solve, mesh=mesh, scale=scale, outer=outer,
