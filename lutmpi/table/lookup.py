@@ -19,6 +19,11 @@ EXTEND_STEPS = 0.1
 NARROW_STEPS = 0.25
 #: the reach of :func:`_warp` beside a jump, in grid steps of y
 WARP_STEPS = 1.0
+#: a query this close to a knot or a yaw column (a fraction of the interval) is read on it:
+#: the yaw 0.05 typed by a user lies 4e-16 below the grid's 0.05000000000000002, in the cell
+#: below with a weight of 1e-16 on the column beyond, whose NaN (a failed pose, a second
+#: contact that column does not have) then made the whole answer NaN
+SNAP = 1e-9
 
 
 @numba.njit(cache=True)
@@ -44,6 +49,10 @@ def _piece_eval(ky, kv, kd, mode, j, s, e, y, w, out_v, out_d, acc):  # noqa: AN
     y0, y1 = ky[j, k], ky[j, k + 1]
     h = y1 - y0
     t = (y - y0) / h
+    if abs(t) <= SNAP:                                  # on the knot (:data:`SNAP`)
+        t = 0.0
+    elif abs(t - 1.0) <= SNAP:
+        t = 1.0
     inside = 0.0 < t < 1.0
     # cubic Hermite basis (values) and its derivative / h (slopes), shared by all columns
     t2 = t * t
@@ -240,6 +249,10 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
                 hi = mid
         j = lo
         w = (yaw - yaw_axis[j]) / (yaw_axis[j + 1] - yaw_axis[j])
+        if abs(w) <= SNAP:        # on the column (:data:`SNAP`)
+            w = 0.0
+        elif abs(w - 1.0) <= SNAP:
+            w = 1.0
     # the piece of each column: by the jump curves at this yaw (paired jumps), or by a column's
     # own jump where the other column holds no partner
     dist = np.nan

@@ -1208,3 +1208,24 @@ method = "reference"
         right = max(r.contacts["right"], key=lambda c: float(c.force))
         assert abs(q["rolling_radius"][i][1, 0] - right.rolling_radius) < 20e-6, yi
         assert abs(q["z_g"][i] - r.z_g) < 2e-6, yi
+
+
+def test_a_query_typed_at_a_grid_value_is_read_on_that_column_and_knot():
+    """The grid's yaw 0.05 is 0.05000000000000002 (``numpy.linspace(-0.1, 0.1, 5)``): a user's
+    0.05 lies 4e-16 below it, in the cell below, with a weight of 1e-16 on the column beyond.
+    A NaN there (a failed pose, or a second contact that column lacks) made the answer NaN
+    although the query is on a column whose value is known (a measured pair: the second
+    contact's rolling radius NaN at y = -3.47 mm, yaw 0.05; the whole pose NaN on another).
+    The same along y at a knot. Within :data:`lutmpi.table.lookup.SNAP` of the interval the
+    query is read on the column, or the knot, alone; exactly between them nothing changes."""
+    y_axis, yaw_axis = np.linspace(-9e-3, 9e-3, 19), np.linspace(-0.1, 0.1, 5)
+    assert yaw_axis[3] != 0.05 and y_axis[5] != -4e-3
+    z = 0.46 + 0.01 * y_axis[:, None] + 0.02 * yaw_axis[None, :]
+    z[:, 2] = np.nan                                      # the yaw-0 column failed
+    z[4, :] = np.nan                                      # the y = -5 mm row failed
+    ip = ti.build(y_axis, yaw_axis, {"z_g": z})
+    y = np.array([1e-3, 1e-3, -4e-3, y_axis[5]])
+    value = ip.evaluate(y, np.array([0.05, yaw_axis[3], 0.07, 0.07]))[0][:, 0]
+    want = 0.46 + 0.01 * y + 0.02 * np.array([yaw_axis[3], yaw_axis[3], 0.07, 0.07])
+    np.testing.assert_allclose(value, want, rtol=0, atol=1e-12)
+    assert np.isnan(ip.evaluate(np.array([1e-3]), np.array([0.04]))[0][0, 0])   # a true blend
