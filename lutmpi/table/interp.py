@@ -65,6 +65,7 @@ Queries:
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -293,7 +294,8 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, s
     Where every jump's nearest on its wheel in the other column is its partner by order, both
     ways (the same jumps, however far they moved), the pairing is one to one. Otherwise it is
     the order-keeping pairing of least cost: a pair costs the distance of its positions (same
-    wheel mask, within the reach only), a jump left unpaired half the reach. The reach is
+    wheel mask, within the reach only; masks that share a wheel, :func:`_mask_cost`), a jump
+    left unpaired half the reach. The reach is
     :data:`PAIR_STEPS` grid steps, or :data:`PAIR_SPREAD` times the median shift of the jumps
     that are each other's nearest where larger. The same count of jumps is not taken to mean
     the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
@@ -326,8 +328,9 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, s
             best, how = cost[i - 1, k] + gap, 1
             if cost[i, k - 1] + gap < best:
                 best, how = cost[i, k - 1] + gap, 2
-            d = abs(float(ya[i - 1]) - float(yb[k - 1]))
-            if sa[i - 1] == sb[k - 1] and d < reach and cost[i - 1, k - 1] + d <= best:
+            d = abs(float(ya[i - 1]) - float(yb[k - 1])) + _mask_cost(sa[i - 1], sb[k - 1],
+                                                                     reach)
+            if d < reach and cost[i - 1, k - 1] + d <= best:
                 best, how = cost[i - 1, k - 1] + d, 0
             cost[i, k], move[i, k] = best, how
     a_to_b = np.full(na, -1, np.int64)
@@ -343,6 +346,20 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, s
         else:
             k -= 1
     return a_to_b, b_to_a
+
+
+def _mask_cost(a: int, b: int, reach: float) -> float:
+    """What pairing two jumps with wheel masks ``a``, ``b`` (:data:`lutmpi.table.schema.
+    JUMP_SIDE_BITS`) adds to their distance in :func:`pair_jumps`: nothing for the same mask,
+    half the reach where they share a wheel (a pair then only within half the reach, and an
+    equal mask preferred), inf where they do not. A fold flagged on both wheels in one column
+    can be flagged on one in the next (the other wheel's change fell below the confirmation
+    there); unpaired, each column was read on its own side across the band between the two
+    jumps (on a worn flange pair at 0.01 rad yaw steps the rolling radius 6.2 mm off 0.1 mm
+    from the jump, and a failed pose's NaN spread over 0.3 mm of y between the columns)."""
+    if a == b:
+        return 0.0
+    return 0.5 * reach if int(a) & int(b) else math.inf
 
 
 def _nearest_on_wheel(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray

@@ -284,6 +284,29 @@ def test_jumps_of_neighbouring_columns_pair_by_position_and_wheel():
     assert a.tolist() == [0, 1] and b.tolist() == [0, 1, -1]
 
 
+def test_a_jump_flagged_on_both_wheels_pairs_with_its_one_wheel_image_in_the_next_column():
+    """A fold is flagged on both wheels (3) in one column and on the right wheel (2) in the
+    next, where the left wheel's change fell below the confirmation: one jump, paired (it went
+    unpaired, and each column was read on its own side between them: a measured worn flange
+    pair, 6.2 mm of rolling radius off at 0.01 rad yaw steps). A jump of the same mask is
+    preferred where both are near; masks that share no wheel never pair, and a shared wheel
+    pairs only within half the reach."""
+    mm = 1e-3
+    step = 0.5 * mm
+    a, b = ti.pair_jumps(np.array([-6.549]) * mm, np.array([3], np.int8),
+                         np.array([-6.71]) * mm, np.array([2], np.int8), step)
+    assert a.tolist() == [0] and b.tolist() == [0]
+    a, b = ti.pair_jumps(np.array([0.0]) * mm, np.array([3], np.int8),
+                         np.array([-0.05, 0.1]) * mm, np.array([2, 3], np.int8), step)
+    assert a.tolist() == [1] and b.tolist() == [-1, 0]
+    a, b = ti.pair_jumps(np.array([0.0]) * mm, np.array([1], np.int8),
+                         np.array([0.0]) * mm, np.array([2], np.int8), step)
+    assert a.tolist() == [-1] and b.tolist() == [-1]
+    a, b = ti.pair_jumps(np.array([0.0]) * mm, np.array([3], np.int8),
+                         np.array([0.6]) * mm, np.array([2], np.int8), step)
+    assert a.tolist() == [-1] and b.tolist() == [-1]      # 0.6 mm: beyond half the 1 mm reach
+
+
 def _branch(y, upper):
     """Rolling radius (m) of :func:`_one_jump_curve`'s table: flange branch above its jump."""
     return np.where(upper, 0.47 + y, 0.46 + 0.05 * y)
