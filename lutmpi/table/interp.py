@@ -72,7 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lutmpi.table.lookup import lookup_many
-from lutmpi.table.schema import D, J
+from lutmpi.table.schema import FIELDS_BY_NAME, SIDES, D, J
 
 MODES = ("linear", "pchip", "nearest")
 LINEAR, PCHIP, NEAREST = 0, 1, 2
@@ -150,6 +150,8 @@ class Interpolator:
     jumps : ndarray of bool, (Q,)
         Whether the value column jumps at the located jumps (:func:`_jumping`).
     layout : Layout
+    slot_pair, slot_wheel, slot_s : ndarray of int64, (Q,), (Q,) and (2, 2)
+        The matching of two columns' contacts (:func:`slot_matching`).
     """
 
     y_axis: np.ndarray
@@ -166,6 +168,9 @@ class Interpolator:
     mode: np.ndarray
     jumps: np.ndarray
     layout: Layout
+    slot_pair: np.ndarray
+    slot_wheel: np.ndarray
+    slot_s: np.ndarray
 
     def evaluate(self, y: np.ndarray, yaw: np.ndarray) -> tuple[np.ndarray, ...]:
         """Values and slopes at poses ``(y, yaw)`` (1-D arrays of equal length, m and rad).
@@ -194,7 +199,8 @@ class Interpolator:
     def arrays(self) -> tuple[np.ndarray, ...]:
         """The arguments of the compiled kernels, in their order."""
         return (self.y_axis, self.yaw_axis, self.ky, self.kv, self.kd, self.pstart, self.jy,
-                self.nj, self.up, self.down, self.mode, self.jumps)
+                self.nj, self.up, self.down, self.mode, self.jumps, self.slot_pair, self.slot_wheel,
+                self.slot_s)
 
 
 # -- building ---------------------------------------------------------------------------------
@@ -261,7 +267,37 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
         down[j + 1, :nj[j + 1]] = b
     return Interpolator(np.asarray(y_axis, float), np.asarray(yaw_axis, float), ky, kv, kd,
                         pstart, np.where(np.isfinite(jy), jy, np.inf), nj, jside, up,
-                        down, mode, _jumping(grid, lim, layout), layout)
+                        down, mode, _jumping(grid, lim, layout), layout, *slot_matching(layout))
+
+
+def slot_matching(layout: Layout) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What the blend between yaw columns matches a wheel's two contacts by
+    (:func:`~lutmpi.table.lookup.match_slots`): per value column in the first slot of a
+    per-contact quantity (:attr:`lutmpi.table.schema.Field.per_contact`), the value column of
+    the same quantity, wheel and component in the second slot and the wheel (-1 elsewhere);
+    and the value columns of ``wheel_s`` per wheel and slot (-1 without it: nothing is
+    matched).
+
+    A column orders a wheel's contacts by force (the reference method: the solver's order),
+    and two columns can order the same two contacts differently: blended slot by slot, a
+    double contact on the tread at s = 7.3 and 3.5 mm read as two contacts at 5.4 mm between
+    the columns (a measured asymmetric pair, yaw steps of 0.01 rad; on its flange 1.2 mm of
+    rolling radius off)."""
+    pair = np.full(layout.size, -1, np.int64)
+    wheel = np.full(layout.size, -1, np.int64)
+    s_cols = np.full((len(SIDES), 2), -1, np.int64)
+    for name, (off, suffix) in layout.slots.items():
+        field = FIELDS_BY_NAME.get(name)
+        if field is None or not field.per_contact or suffix[:2] != field.suffix[:2] or (
+                suffix[1] < 2):
+            continue
+        idx = np.arange(int(np.prod(suffix, dtype=int))).reshape(suffix) + off
+        pair[idx[:, 0]] = idx[:, 1]
+        for w in range(suffix[0]):
+            wheel[idx[w, 0]] = w
+        if name == D.wheel_s:
+            s_cols[:] = idx[:, :2]
+    return pair, wheel, s_cols
 
 
 def _jumping(grid: np.ndarray, lim: np.ndarray | None, layout: Layout) -> np.ndarray:

@@ -96,6 +96,29 @@ def _piece_eval(ky, kv, kd, mode, j, s, e, y, w, out_v, out_d, acc):  # noqa: AN
 
 
 @numba.njit(cache=True)
+def match_slots(tmp_v, tmp_d, r, ref, slot_pair, slot_wheel, slot_s):  # noqa: ANN001
+    """Reorder row ``r``'s first two contacts of each wheel (values ``tmp_v``, slopes
+    ``tmp_d``) to match row ``ref``'s, where the two hold two contacts each and the crossed
+    pairing lies nearer along the wheel profile (``wheel_s``) than the slot by slot one: a
+    column orders its contacts by force (the reference method: the solver's order), and two
+    columns can order one double contact differently (:func:`lutmpi.table.interp.
+    slot_matching`). Rows that agree are left as they are, to the bit."""
+    for wh in range(slot_s.shape[0]):
+        i0, i1 = slot_s[wh, 0], slot_s[wh, 1]
+        if i0 < 0:
+            return
+        a0, a1, b0, b1 = tmp_v[r, i0], tmp_v[r, i1], tmp_v[ref, i0], tmp_v[ref, i1]
+        if not (np.isfinite(a0) and np.isfinite(a1) and np.isfinite(b0) and np.isfinite(b1)):
+            continue
+        if abs(a0 - b1) + abs(a1 - b0) < abs(a0 - b0) + abs(a1 - b1):
+            for c in range(slot_pair.size):
+                if slot_wheel[c] == wh:
+                    o = slot_pair[c]
+                    tmp_v[r, c], tmp_v[r, o] = tmp_v[r, o], tmp_v[r, c]
+                    tmp_d[r, c], tmp_d[r, o] = tmp_d[r, o], tmp_d[r, c]
+
+
+@numba.njit(cache=True)
 def _piece_of(jy, nj, j, y):  # noqa: ANN001
     p = 0
     for k in range(nj[j]):
@@ -220,7 +243,8 @@ def _bound(jy, nj, c, p):  # noqa: ANN001
 
 @numba.njit(cache=True)
 def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # noqa: ANN001
-               jumps, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):
+               jumps, slot_pair, slot_wheel, slot_s, y, yaw, out_v, out_dy, out_dw, tmp_v,
+               tmp_d):
     """One pose into ``out_v``, ``out_dy``, ``out_dw`` (Q,); ``tmp_v``, ``tmp_d`` (8, Q) scratch
     (the columns j - 1 .. j + 2 around the query's yaw, rows 0-3 read at ``y``, rows 4-7 where
     :func:`_warp` moves them, for the quantities that jump).
@@ -380,6 +404,13 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
         if upper:
             _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, pu], pstart[j + 2, pu + 1], yc3,
                         1.0, tmp_v[7], tmp_d[7], False)
+    # each column's contacts in the order of the nearer column's (:func:`match_slots`)
+    ref = 1 if w < 0.5 else 2
+    for r in range(4):
+        if r != ref and (r in (1, 2) or (r == 0 and lower) or (r == 3 and upper)):
+            match_slots(tmp_v, tmp_d, r, ref, slot_pair, slot_wheel, slot_s)
+            if warp and (r in (1, 2) or (r == 0 and lower_j) or (r == 3 and upper_j)):
+                match_slots(tmp_v, tmp_d, r + 4, ref + 4, slot_pair, slot_wheel, slot_s)
     # a column whose piece would be extended far beyond its end knots (its jump moved farther
     # than the grid resolves between the columns) does not answer: the other column alone
     only = -1
@@ -460,13 +491,14 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
 def lookup_many(arrays, y, yaw, out_v, out_dy, out_dw, flags, piece, dist):  # noqa: ANN001
     """:func:`lookup_one` over a batch (``arrays``:
     :attr:`~lutmpi.table.interp.Interpolator.arrays`)."""
-    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps = arrays
+    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps, sp, sw, ss = arrays
     q = kv.shape[2]
     tmp_v = np.empty((8, q))
     tmp_d = np.empty((8, q))
     for i in range(y.size):
         f, p, d = lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,
-                             jumps, y[i], yaw[i], out_v[i], out_dy[i], out_dw[i], tmp_v, tmp_d)
+                             jumps, sp, sw, ss, y[i], yaw[i], out_v[i], out_dy[i], out_dw[i],
+                             tmp_v, tmp_d)
         flags[i] = f
         piece[i] = p
         dist[i] = d
@@ -477,6 +509,6 @@ def lookup_point(arrays, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d):  # noqa: 
     """:func:`lookup_one` for one pose (``arrays``:
     :attr:`~lutmpi.table.interp.Interpolator.arrays`): the compiled lookup of the dynamics;
     returns ``(flags, piece, jump_dist)``."""
-    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps = arrays
-    return lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps, y,
-                      yaw, out_v, out_dy, out_dw, tmp_v, tmp_d)
+    y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps, sp, sw, ss = arrays
+    return lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode, jumps, sp,
+                      sw, ss, y, yaw, out_v, out_dy, out_dw, tmp_v, tmp_d)

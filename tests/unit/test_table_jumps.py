@@ -1252,3 +1252,35 @@ def test_a_query_typed_at_a_grid_value_is_read_on_that_column_and_knot():
     want = 0.46 + 0.01 * y + 0.02 * np.array([yaw_axis[3], yaw_axis[3], 0.07, 0.07])
     np.testing.assert_allclose(value, want, rtol=0, atol=1e-12)
     assert np.isnan(ip.evaluate(np.array([1e-3]), np.array([0.04]))[0][0, 0])   # a true blend
+
+
+def test_two_columns_ordering_one_double_contact_differently_blend_contact_by_contact():
+    """A double contact on the left wheel at s = 7.33 and 3.48 mm in one yaw column and the
+    same two contacts in the other order in the next (a column orders its contacts by force;
+    the reference method by the solver's order, which flips): blended slot by slot they read
+    as two contacts at 5.4 mm between the columns, where there is none (a hostile audit's
+    phantom on a measured asymmetric pair; 1.2 mm of rolling radius on a flange). Each column's
+    contacts are matched to the nearer column's along the profile first; a column holding one
+    contact, and the right wheel's single contacts, are blended as before."""
+    y_axis, yaw_axis = np.array([-1e-3, 0.0, 1e-3]), np.array([0.0, 0.01])
+    s = np.full((3, 2, 2, 2), np.nan)
+    s[:, 0, 0, :] = [7.33e-3, 3.48e-3]
+    s[:, 1, 0, :] = [3.50e-3, 7.31e-3]                 # the same two contacts, swapped
+    s[:, :, 1, 0] = -2e-3                               # the right wheel: one contact
+    rr = 0.46 - 0.5 * s                                 # a cone: radius from s
+    ip = ti.build(y_axis, yaw_axis, {"wheel_s": s, "rolling_radius": rr})
+    out = ip.layout.unpack(ip.evaluate(np.array([0.0, 0.0, 0.0]),
+                                       np.array([0.003, 0.007, 0.0]))[0],
+                           ["wheel_s", "rolling_radius"],
+                           {"wheel_s": np.dtype(float), "rolling_radius": np.dtype(float)})
+    near = [[7.33e-3, 3.48e-3], [3.50e-3, 7.31e-3], [7.33e-3, 3.48e-3]]    # nearer column's
+    for i, order in enumerate(near):
+        got = out["wheel_s"][i, 0]
+        assert np.abs(got - np.array(order)).max() < 0.03e-3, (i, got)
+        np.testing.assert_allclose(out["rolling_radius"][i, 0], 0.46 - 0.5 * got, atol=1e-12)
+        assert out["wheel_s"][i, 1, 0] == pytest.approx(-2e-3, abs=1e-15)
+    one = s.copy()
+    one[:, 1, 0, 1] = np.nan                            # the next column: one contact
+    ip = ti.build(y_axis, yaw_axis, {"wheel_s": one})
+    got = ip.evaluate(np.array([0.0]), np.array([0.003]))[0][0]
+    assert np.isnan(got[1])                             # its second slot: no answer
