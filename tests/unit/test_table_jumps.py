@@ -1070,6 +1070,27 @@ def test_a_jump_the_refinement_finds_is_reflected_into_the_image_column():
     assert counts[False] < counts[True]
 
 
+def _readme_pair_column(tmp: Path, y_mm: tuple[float, float, int], yaw: float):
+    """The README's asymmetric pair built with the reference method on one yaw column: its
+    scene, the table and the column's located jumps (m)."""
+    from lutmpi.scene import Scene
+    from lutmpi.table import Table
+    from tests.support.tables import README_ASYMMETRIC
+
+    cfg = tmp / "asym.toml"
+    cfg.write_text(README_ASYMMETRIC + f"""[grid]
+y_mm = [{y_mm[0]}, {y_mm[1]}, {y_mm[2]}]
+yaw_rad = [{yaw}, {yaw}, 1]
+[contact]
+method = "reference"
+""")
+    out = tmp / "a.h5"
+    assert main(["build", str(cfg), "-o", str(out)]) == 0
+    table = Table.open(out)
+    jy = table.jump_positions()[0]
+    return Scene.from_config(load_config(cfg)), table, jy[np.isfinite(jy)]
+
+
 def test_a_measured_worn_flange_step_no_cell_shows_is_in_the_table(tmp_path):
     """The hostile tester's pair (the README's asymmetric example: measured worn wheels
     Car7216 / Car7358 on the Manchester rail / a worn rail), yaw 0.05 rad, 1 mm grid: on the
@@ -1078,24 +1099,9 @@ def test_a_measured_worn_flange_step_no_cell_shows_is_in_the_table(tmp_path):
     there, and `query` agrees with `solve` beside it (the rolling radius was 0.79 mm off at
     5.24 mm, z_g 49 um)."""
     from lutmpi.pose.solve import solve_pose
-    from lutmpi.scene import Scene
-    from lutmpi.table import Table
-    from tests.support.tables import README_ASYMMETRIC
 
-    cfg = tmp_path / "asym.toml"
-    cfg.write_text(README_ASYMMETRIC + """[grid]
-y_mm = [3.0, 7.0, 5]
-yaw_rad = [0.05, 0.05, 1]
-[contact]
-method = "reference"
-""")
-    out = tmp_path / "a.h5"
-    assert main(["build", str(cfg), "-o", str(out)]) == 0
-    table = Table.open(out)
-    jy = table.jump_positions()[0]
-    jy = jy[np.isfinite(jy)]
+    scene, table, jy = _readme_pair_column(tmp_path, (3.0, 7.0, 5), 0.05)
     assert np.abs(jy - 5.2495e-3).min() < 20e-6, jy * 1e3
-    scene = Scene.from_config(load_config(cfg))
     y = np.array([5.10, 5.20, 5.24, 5.255, 5.28, 5.40]) * 1e-3
     assert np.abs(y[:, None] - jy[None, :]).min() > 5e-6
     q = table.interp(y, np.full(y.size, 0.05))
@@ -1205,24 +1211,9 @@ def test_a_primary_switch_between_knots_at_the_refinements_floor_is_in_the_table
     across it (1.2 mm off in the middle). An interval at the refinement's floor whose
     contact still moves by more than CONFIRM_M is now searched as a bracket."""
     from lutmpi.pose.solve import solve_pose
-    from lutmpi.scene import Scene
-    from lutmpi.table import Table
-    from tests.support.tables import README_ASYMMETRIC
 
-    cfg = tmp_path / "asym.toml"
-    cfg.write_text(README_ASYMMETRIC + """[grid]
-y_mm = [-7.0, -5.0, 3]
-yaw_rad = [-0.1, -0.1, 1]
-[contact]
-method = "reference"
-""")
-    out = tmp_path / "a.h5"
-    assert main(["build", str(cfg), "-o", str(out)]) == 0
-    table = Table.open(out)
-    jy = table.jump_positions()[0]
-    jy = jy[np.isfinite(jy)]
+    scene, table, jy = _readme_pair_column(tmp_path, (-7.0, -5.0, 3), -0.1)
     assert np.abs(jy - (-5.7637e-3)).min() < 5e-6, jy * 1e3
-    scene = Scene.from_config(load_config(cfg))
     y = np.array([-5.7700, -5.7690, -5.7600, -5.7590, -5.7560]) * 1e-3
     assert np.abs(y[:, None] - jy[None, :]).min() > 3e-6
     q = table.interp(y, np.full(y.size, -0.1))
