@@ -15,7 +15,9 @@ out (there the answer may be either side's, both are right).
 
 Printed per tree, on the columns and between them: the largest error over both wheels of the
 primary rolling radius (RMS, median, count above 0.1 mm and 1 mm, maximum, um), the primary
-contact angle (RMS, maximum, mrad) and z_g (RMS, um).
+contact angle (RMS, maximum, mrad) and z_g (RMS, um); and of the wheels in double contact (two
+direct contacts), how many the table gives a primary contact strictly between the two, more than
+0.1 mm of rolling radius from both (a contact blended from two).
 """
 
 from __future__ import annotations
@@ -81,6 +83,14 @@ def evaluate(table_path: Path, method: str, direct_path: Path) -> dict[str, dict
     ga = np.nanmax(np.abs(primary("contact_angle")
                           - d["contact_angle"].reshape(n, 2, -1)[:, :, 0]), axis=1)
     zg = np.abs(np.asarray(q["z_g"], float) - d["z_g"])
+    # a wheel in double contact (two direct contacts) whose table primary contact lies strictly
+    # between them, farther than 0.1 mm of rolling radius from both: a contact the table
+    # invented by blending two different ones
+    both = d["rolling_radius"].reshape(n, 2, -1)[:, :, :2]
+    tp = primary("rolling_radius")
+    double = np.isfinite(both).all(axis=2)
+    lo, hi = np.nanmin(both, axis=2), np.nanmax(both, axis=2)
+    phantom = double & (tp > lo + 1e-4) & (tp < hi - 1e-4)
     on = np.isin(np.round(yaw, 12), np.round(table.yaw, 12))
     away = ~(np.abs(q["jump_distance"]) <= NEAR_M)
     out = {}
@@ -95,6 +105,7 @@ def evaluate(table_path: Path, method: str, direct_path: Path) -> dict[str, dict
             "angle_max_mrad": 1e3 * float(g.max()),
             "zg_rms_um": 1e6 * float(np.sqrt(np.mean(z ** 2))),
             "without_answer": int(np.isnan(rr[sel]).sum()),
+            "double": int(double[sel].sum()), "phantom": int(phantom[sel].sum()),
         }
     return out
 
@@ -128,7 +139,8 @@ def main() -> None:
                   f"median {f['rr_median_um']:.1f} max {f['rr_max_um']:.0f} um, "
                   f"> 0.1 mm {f['rr_over_0.1mm']}, > 1 mm {f['rr_over_1mm']}; contact angle "
                   f"RMS {f['angle_rms_mrad']:.3f} max {f['angle_max_mrad']:.2f} mrad; "
-                  f"z_g RMS {f['zg_rms_um']:.2f} um; no answer {f['without_answer']}")
+                  f"z_g RMS {f['zg_rms_um']:.2f} um; no answer {f['without_answer']}; "
+                  f"double contacts {f['double']}, primary between the two {f['phantom']}")
 
 
 if __name__ == "__main__":

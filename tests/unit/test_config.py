@@ -96,10 +96,11 @@ def test_output_methods_default_to_the_contact_method():
 # ----------------------------------------------------------------------------- example configs
 
 @pytest.mark.parametrize("name", ["paper_s1002_uic60_1in20", "small_test", "defaults",
-                                  "manchester_s1002_uic60_1in40"])
+                                  "manchester_s1002_uic60_1in40", "measured_asymmetric_pair"])
 def test_example_config_loads_and_round_trips(name):
     path = CONFIGS / f"{name}.toml"
-    if name.startswith("manchester") and not (ROOT / "profiles" / "MBench_S1002_v3.prw").exists():
+    if name.startswith(("manchester", "measured")) and not (
+            ROOT / "profiles" / "MBench_S1002_v3.prw").exists():
         pytest.skip("profiles/MBench_*.prw not copied into the project yet")
     cfg = load_config(path)
     text = config_to_toml(cfg)
