@@ -12,10 +12,11 @@ Representation (built once per table and method, :func:`build`):
   Fritsch-Carlson slopes computed inside each piece) or ``nearest`` (codes and counts), chosen by
   :func:`choose_modes` from the error each makes predicting the table's own nodes from every other
   node (a measured error at twice the step, no extra solve); the wheelset's pose is always
-  ``pchip``, the cubic its refinement tested (:data:`lutmpi.table.jumps.CUBIC_TESTED`).
+  ``pchip``, the cubic its refinement tested (:data:`lutmpi.table.refine.CUBIC_TESTED`).
 * The jumps of neighbouring yaw columns are paired one by one (:func:`pair_jumps`: the
-  order-keeping pairing of least distance, on the same wheel, within :data:`PAIR_STEPS` grid
-  steps of y or farther where the jumps all moved farther). The same count of jumps is not taken
+  order-keeping pairing of least distance, on the same wheel (or wheel masks that share one, at
+  a cost: :func:`_mask_cost`), within :data:`PAIR_STEPS` grid steps of y or farther where the
+  jumps all moved farther). The same count of jumps is not taken
   to mean the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
   another cluster gains one (on the Manchester 37x37 load-centre table, pairing by index put
   jumps 4 mm apart together and the rolling radius between those columns erred by up to 8.9 mm).
@@ -51,8 +52,15 @@ Representation (built once per table and method, :func:`build`):
   roll) only kinks at a jump and is interpolated as above. Flag :data:`UNMATCHED`: a linear blend,
   or one column answering.
 
+* A wheel's contacts are blended between columns contact by contact: each column's first two
+  are put in the order of the nearer column's along the wheel profile first
+  (:func:`slot_matching`, :func:`~lutmpi.table.lookup.match_slots`; a column orders them by
+  force, and two columns can order one double contact differently).
+
 Queries:
 
+* Within :data:`~lutmpi.table.lookup.SNAP` of an interval of a knot or a yaw column, a query
+  is read on it (a yaw typed as 0.05 is not the grid's 0.05000000000000002).
 * At a jump position exactly, the *upper* piece answers (y >= jump -> above it). Between a
   bracket's ends (``TOL_M`` wide) a piece is extended to the jump position.
 * Outside the grid (either axis, NaN input) every value is NaN and the query carries
@@ -506,7 +514,7 @@ def choose_modes(y_axis: np.ndarray, arrays: dict[str, np.ndarray],
     """The interpolant of each float quantity: ``pchip`` where predicting every other knot of
     each piece from the rest errs less (RMS over the table) than ``linear``, else ``linear``;
     always ``pchip`` for the wheelset's pose (:data:`KINKING`), whose refinement between the
-    knots tested that cubic (:data:`lutmpi.table.jumps.CUBIC_TESTED`): read with the straight
+    knots tested that cubic (:data:`lutmpi.table.refine.CUBIC_TESTED`): read with the straight
     line, its knots would not hold the tolerance they were placed for.
 
     The comparison uses only the table's own nodes and jump limits: the measured error at twice
