@@ -20,6 +20,7 @@ BRENTQ_ITER = 100  # SciPy's default
 #: status of :func:`local_root`
 LOCAL_OK, LOCAL_NONE, LOCAL_NOCONV, LOCAL_NAN = 0, 1, 2, 3
 
+
 @njit(cache=True)
 def heights(y, yaw, roll, left, right, idx_l, idx_r, gap_l, gap_r):
     """Touching heights (left, right) of G at this roll on the samples ``idx_l``/``idx_r``

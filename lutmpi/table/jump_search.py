@@ -59,6 +59,7 @@ Knot = tuple[float, Record]
 #: of :func:`~lutmpi.table.refine.refine_interval`)
 Item = tuple[int, Knot, Knot, tuple[Knot | None, Knot | None]]
 
+
 @dataclass(frozen=True)
 class Jump:
     """One located jump at one yaw.
@@ -178,6 +179,18 @@ def grid_record(arrays: dict[str, np.ndarray], i: int, j: int) -> Record:
     return {name: np.asarray(arr[i, j]) for name, arr in arrays.items()}
 
 
+def recording(solve: PoseSolver, yaw: float, samples: list[tuple[float, Record]]
+              ) -> Callable[[float], Record]:
+    """``solve`` at this yaw as a function of y that appends each pose it solves to
+    ``samples`` as ``(y, record)`` (the searches' record of the poses they solved)."""
+    def sampled(y: float) -> Record:
+        rec = solve(y, yaw)
+        samples.append((y, rec))
+        return rec
+
+    return sampled
+
+
 def refine_cell(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.ndarray,
                 cell: tuple[int, int], solve: PoseSolver, *, tol: float = TOL_M,
                 threshold: float = CANDIDATE_M, confirm: float = CONFIRM_M
@@ -208,12 +221,7 @@ def refine_cell(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np.
     yaw = float(yaw_axis[j])
     lo, hi = float(y_axis[i]), float(y_axis[i + 1])
     samples: list[tuple[float, Record]] = []
-
-    def sampled(y: float) -> Record:
-        rec = solve(y, yaw)
-        samples.append((y, rec))
-        return rec
-
+    sampled = recording(solve, yaw, samples)
     rlo, rhi = grid_record(arrays, i, j), grid_record(arrays, i + 1, j)
     if not classify(state_key(rlo), state_key(rhi), threshold)[0]:
         threshold = confirm       # a candidate by its sudden movement (:func:`_sudden`)

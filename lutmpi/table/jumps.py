@@ -139,6 +139,7 @@ def locate_jumps(arrays: dict[str, np.ndarray], y_axis: np.ndarray, yaw_axis: np
                   for y, r in rs]
     return assemble(found, extra, yaw_axis.size, fields)
 
+
 def wheel_flange_angle(wheel: Any) -> float:
     """Steepest angle of a wheel profile's flange flank (rad), between the flange tip and the tape
     circle (``s = 0``): the angle of Nadal's derailment limit.

@@ -39,6 +39,7 @@ from lutmpi.table.jump_search import (
     classify,
     discrete_key,
     grid_record,
+    recording,
     search_bracket,
     state_key,
 )
@@ -76,6 +77,7 @@ REFINE_GAIN = 0.8
 #: least this fraction of its step (refining below it chases the mesh, not the contact)
 MESH_STEP_FRACTION = 0.5
 
+
 @dataclass(frozen=True)
 class MeshResolution:
     """What bounds the refinement of a mesh method's table (:func:`tolerances`).
@@ -90,6 +92,7 @@ class MeshResolution:
 
     spacing: np.ndarray
     centroid: bool
+
 
 def _primaries(recs: Sequence[Record], name: str) -> list[list[float]]:
     """Per wheel, a per-contact quantity's primary contact in each of ``recs`` (Python floats:
@@ -332,12 +335,7 @@ def _narrow(x0: float, r0: Record, x1: float, r1: Record, yaw: float, solve: Pos
     stepped by 2.4 mm between two knots 7.8 um apart, and the table ran a straight line
     across it. Returns the poses solved but those strictly inside a bracket, sorted by y."""
     samples: list[tuple[float, Record]] = []
-
-    def sampled(y: float) -> Record:
-        rec = solve(y, yaw)
-        samples.append((y, rec))
-        return rec
-
+    sampled = recording(solve, yaw, samples)
     here = search_bracket(x0, r0, x1, r1, sampled, iyaw, TOL_M, CONFIRM_M, CONFIRM_M,
                           MAX_PER_CELL, samples)
     found.extend(sorted(here, key=lambda jp: jp.lo))
@@ -357,12 +355,7 @@ def _split(x0: float, r0: Record, x1: float, r1: Record, mid: Knot, yaw: float,
     (but those strictly inside a bracket), sorted by y. Where no jump is confirmed (a
     continuous contact that is merely steep) the poses are knots and nothing else changes."""
     samples: list[tuple[float, Record]] = [mid]
-
-    def sampled(y: float) -> Record:
-        rec = solve(y, yaw)
-        samples.append((y, rec))
-        return rec
-
+    sampled = recording(solve, yaw, samples)
     here: list[Jump] = []
     for (a, ra), (b, rb) in (((x0, r0), mid), (mid, (x1, r1))):
         here += search_bracket(a, ra, b, rb, sampled, iyaw, TOL_M, CONFIRM_M, CONFIRM_M,
