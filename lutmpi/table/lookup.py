@@ -128,6 +128,25 @@ def _piece_of(jy, nj, j, y):  # noqa: ANN001
 
 
 @numba.njit(cache=True)
+def _unpaired_below(jy, nj, pair, c, y, below, above):  # noqa: ANN001
+    """How many of column ``c``'s unpaired jumps (``pair`` < 0) lie below the query at ``y``:
+    those below its paired jump of index ``below`` that the jump curves put below ``y``, none
+    above the paired one of index ``above`` put above it, the others by their own position. By
+    position alone an unpaired jump between ``y`` and a paired one the curves put below it
+    counted as above, and the column was read in a piece both jumps bound it away from (the
+    paper's pair at yaw 0.027 rad, a load centre's flickering second contact at y = 6.154 and
+    6.158 mm before the main contact's jump at 6.162: at yaw 0.03, y = 6.15, that column read
+    on the tread past the flange jump, the rolling radius 6.5 mm off)."""
+    n = 0
+    for k in range(nj[c]):
+        if pair[c, k] >= 0:
+            continue
+        if k < below or (k < above and jy[c, k] <= y):
+            n += 1
+    return n
+
+
+@numba.njit(cache=True)
 def _jump_at(jy, up, down, j, k, m, w):  # noqa: ANN001
     """Position (m) of the jump curve through jump ``k`` of column ``j`` and its partner ``m``
     of column j + 1, a fraction ``w`` of the way between them: a cubic in yaw (Catmull-Rom,
@@ -292,16 +311,16 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     else:
         # each column's piece: the number of its jumps at or below y, a paired jump at its
         # curve's position at this yaw (:func:`_jump_at`, computed once for both columns), an
-        # unpaired one at its own; the distance: to the paired jumps and the nearer column's
-        # unpaired ones
+        # unpaired one at its own but never across a paired one of its column (below a paired
+        # jump the curve puts below y, above one it puts above: :func:`_unpaired_below`); the
+        # distance: to the paired jumps and the nearer column's unpaired ones
         p0 = 0
         p1 = 0
+        below0, above0, below1, above1 = -1, nj[j], -1, nj[j + 1]
         for k in range(nj[j]):
             m = up[j, k]
             if m < 0:
                 yj = jy[j, k]
-                if yj <= y:
-                    p0 += 1
                 if w >= 0.5:
                     continue
             else:
@@ -309,17 +328,18 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
                 if yj <= y:
                     p0 += 1
                     p1 += 1
+                    below0, below1 = max(below0, k), max(below1, m)
+                else:
+                    above0, above1 = min(above0, k), min(above1, m)
             if abs(y - yj) < best:
                 best = abs(y - yj)
                 dist = y - yj
         for k in range(nj[j + 1]):
-            if down[j + 1, k] < 0:
-                yj = jy[j + 1, k]
-                if yj <= y:
-                    p1 += 1
-                if w >= 0.5 and abs(y - yj) < best:
-                    best = abs(y - yj)
-                    dist = y - yj
+            if down[j + 1, k] < 0 and w >= 0.5 and abs(y - jy[j + 1, k]) < best:
+                best = abs(y - jy[j + 1, k])
+                dist = y - jy[j + 1, k]
+        p0 += _unpaired_below(jy, nj, up, j, y, below0, above0)
+        p1 += _unpaired_below(jy, nj, down, j + 1, y, below1, above1)
         paired = _corresponding(up, nj, j, j + 1, p0) == p1
         if w > 0.0 and not paired:
             flags |= 2   # the two pieces are not bounded by the same jumps: a linear blend
