@@ -91,6 +91,13 @@ OUT_OF_RANGE, UNMATCHED = 1, 2
 #: other's nearest where that is larger (a coarse yaw grid, jumps moving far between columns)
 PAIR_STEPS = 2.0
 PAIR_SPREAD = 3.0
+#: what :func:`pair_jumps` adds per wheel whose main contact a jump moves, where the jump is
+#: left unpaired or paired with one that moves it otherwise (:func:`_move_classes`), in
+#: reaches; and the movement of the main contact along the wheel profile up to which a jump
+#: counts as not moving it, m (the jump search's confirmation,
+#: :data:`lutmpi.table.jump_search.CONFIRM_M`)
+MOVE_WEIGHT = 0.25
+MOVE_FLOOR_M = 0.5e-3
 #: a quantity whose one-sided limits at some jump differ by more than this many times its
 #: median change over one grid step jumps with the contact (else it only kinks there)
 JUMPING_STEPS = 10.0
@@ -268,14 +275,30 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
     up = np.full((nyaw, k), -1, np.int64)
     down = np.full((nyaw, k), -1, np.int64)
     step = float(np.max(np.diff(y_axis))) if len(y_axis) > 1 else 0.0
+    moves = _moves(limits, k)
     for j in range(nyaw - 1):
         a, b = pair_jumps(jy[j, :nj[j]], jside[j, :nj[j]], jy[j + 1, :nj[j + 1]],
-                          jside[j + 1, :nj[j + 1]], step)
+                          jside[j + 1, :nj[j + 1]], step,
+                          None if moves is None else moves[j, :nj[j]],
+                          None if moves is None else moves[j + 1, :nj[j + 1]])
         up[j, :nj[j]] = a
         down[j + 1, :nj[j + 1]] = b
     return Interpolator(np.asarray(y_axis, float), np.asarray(yaw_axis, float), ky, kv, kd,
                         pstart, np.where(np.isfinite(jy), jy, np.inf), nj, jside, up,
                         down, mode, _jumping(grid, lim, layout), layout, *slot_matching(layout))
+
+
+def _moves(limits: dict[str, np.ndarray] | None, k: int) -> np.ndarray | None:
+    """Per column and jump, how far each wheel's main contact moves along the wheel profile
+    across it (``wheel_s`` of the first slot, upper limit less lower, m; NaN where either is
+    missing), ``(nyaw, K, wheels)``; None without jumps or ``wheel_s`` limits. Read from the
+    limits whatever quantities the interpolator holds: the pairing of the jumps, and so every
+    answer, must not depend on which quantities a caller asks for."""
+    ws = None if not k or not limits else limits.get(D.wheel_s)
+    if ws is None or ws.ndim < 5:
+        return None
+    ws = np.asarray(ws, float)
+    return ws[:, :, 1, :, 0] - ws[:, :, 0, :, 0]
 
 
 def slot_matching(layout: Layout) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -330,16 +353,21 @@ def _jumping(grid: np.ndarray, lim: np.ndarray | None, layout: Layout) -> np.nda
     return out
 
 
-def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, step: float
+def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, step: float,
+               ma: np.ndarray | None = None, mb: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
     """Pair the jumps of two neighbouring yaw columns (positions ``ya``, ``yb`` in m, sorted;
-    wheel masks ``sa``, ``sb``; ``step``: the grid's y step, m).
+    wheel masks ``sa``, ``sb``; ``step``: the grid's y step, m; ``ma``, ``mb``: optional, per
+    jump how far each wheel's main contact moves along the wheel profile, m, ``(n, wheels)``).
 
     Where every jump's nearest on its wheel in the other column is its partner by order, both
     ways (the same jumps, however far they moved), the pairing is one to one. Otherwise it is
     the order-keeping pairing of least cost: a pair costs the distance of its positions (same
     wheel mask, within the reach only; masks that share a wheel, :func:`_mask_cost`), a jump
-    left unpaired half the reach. The reach is
+    left unpaired half the reach; a jump that moves a wheel's main contact
+    (:func:`_move_classes`) adds :data:`MOVE_WEIGHT` reaches per such wheel where it is left
+    unpaired or paired with one that moves it otherwise, so that alike jumps pair first. The
+    reach is
     :data:`PAIR_STEPS` grid steps, or :data:`PAIR_SPREAD` times the median shift of the jumps
     that are each other's nearest where larger. The same count of jumps is not taken to mean
     the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
@@ -362,20 +390,28 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, s
     if shifts:
         reach = max(reach, PAIR_SPREAD * float(np.median(shifts)))
     gap = 0.5 * reach
+    # a jump that moves a wheel's main contact pays MOVE_WEIGHT reaches per such wheel left
+    # unpaired, or paired with one that moves it otherwise (_move_classes): alike pairs first
+    ka, kb = _move_classes(ma, na), _move_classes(mb, nb)
+    wm = MOVE_WEIGHT * reach
+    lone_a = gap + wm * (ka != 0).sum(axis=1)
+    lone_b = gap + wm * (kb != 0).sum(axis=1)
     cost = np.full((na + 1, nb + 1), np.inf)
     move = np.zeros((na + 1, nb + 1), np.int64)   # 0: pair, 1: a's jump unpaired, 2: b's
-    cost[0, :] = gap * np.arange(nb + 1)
-    cost[:, 0] = gap * np.arange(na + 1)
+    cost[0, 0] = 0.0
+    cost[0, 1:] = np.cumsum(lone_b)
+    cost[1:, 0] = np.cumsum(lone_a)
     move[1:, 0], move[0, 1:] = 1, 2
     for i in range(1, na + 1):
         for k in range(1, nb + 1):
-            best, how = cost[i - 1, k] + gap, 1
-            if cost[i, k - 1] + gap < best:
-                best, how = cost[i, k - 1] + gap, 2
+            best, how = cost[i - 1, k] + lone_a[i - 1], 1
+            if cost[i, k - 1] + lone_b[k - 1] < best:
+                best, how = cost[i, k - 1] + lone_b[k - 1], 2
             d = abs(float(ya[i - 1]) - float(yb[k - 1])) + _mask_cost(sa[i - 1], sb[k - 1],
                                                                      reach)
-            if d < reach and cost[i - 1, k - 1] + d <= best:
-                best, how = cost[i - 1, k - 1] + d, 0
+            unlike = wm * float(np.count_nonzero(ka[i - 1] != kb[k - 1]))
+            if d < reach and cost[i - 1, k - 1] + d + unlike <= best:
+                best, how = cost[i - 1, k - 1] + d + unlike, 0
             cost[i, k], move[i, k] = best, how
     a_to_b = np.full(na, -1, np.int64)
     b_to_a = np.full(nb, -1, np.int64)
@@ -404,6 +440,25 @@ def _mask_cost(a: int, b: int, reach: float) -> float:
     if a == b:
         return 0.0
     return 0.5 * reach if int(a) & int(b) else math.inf
+
+
+def _move_classes(m: np.ndarray | None, n: int) -> np.ndarray:
+    """Per jump and wheel, how the jump moves the wheel's main contact along the wheel profile
+    (``m``, m, :func:`_moves`): +1 or -1 by more than :data:`MOVE_FLOOR_M` up or down the
+    profile, else 0 (also where unknown). ``(n, wheels)`` int; ``(n, 0)`` without ``m``.
+
+    :func:`pair_jumps` pairs alike jumps first. A load centre's second contact comes and goes
+    in steps of a few µm before the main contact moves to the flange: one column's cluster can
+    hold an onset, a swap of the two contacts and a loss, the next column's a single jump of
+    the main contact (the paper's pair at yaw 0.027 and 0.033 rad, y = 6.04 and 6.16 mm). By
+    distance alone the onset paired with that jump, and between the columns a tread contact
+    read in one column was blended with a flange contact of the other (rolling radius 6.5 mm
+    off)."""
+    if m is None:
+        return np.zeros((n, 0), np.int64)
+    m = np.asarray(m, float).reshape(n, -1)
+    out = np.where(m > MOVE_FLOOR_M, 1, np.where(m < -MOVE_FLOOR_M, -1, 0))
+    return out.astype(np.int64)
 
 
 def _nearest_on_wheel(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray

@@ -307,6 +307,61 @@ def test_a_jump_flagged_on_both_wheels_pairs_with_its_one_wheel_image_in_the_nex
     assert a.tolist() == [-1] and b.tolist() == [-1]      # 0.6 mm: beyond half the 1 mm reach
 
 
+def test_jumps_that_move_the_main_contact_alike_pair_before_nearer_ones():
+    """The paper's pair (load centre), left wheel, yaw 0.027 and 0.033 rad: one column's main
+    contact goes from tread to flange through a cluster (a 0.7 mm tread step, a second contact's
+    onset, the swap of the two, the loss of the tread contact: at 6.154, 6.158, 6.162 and
+    6.170 mm), the next column's through the flange contact's onset as the main one and the
+    tread contact's loss (6.041, 6.053 mm). By distance alone the tread step paired with the
+    flange jump, and between the columns a tread contact was blended with a flange one (6.5 mm
+    of rolling radius off); the main contact's movement along the wheel pairs the two jumps to
+    the flange and the two losses."""
+    mm = 1e-3
+    ya = np.array([6.1543, 6.1582, 6.1621, 6.1699]) * mm
+    yb = np.array([6.041, 6.0527]) * mm
+    side = np.ones(4, np.int8)
+    ma = np.array([[0.668, 0.161], [0.045, 0.0], [-44.877, 0.0], [-0.032, 0.062]]) * mm
+    mb = np.array([[-45.654, 0.04], [-0.031, 0.006]]) * mm
+    a, b = ti.pair_jumps(ya, side, yb, side[:2], 0.5 * mm, ma, mb)
+    assert a.tolist() == [-1, -1, 0, 1] and b.tolist() == [2, 3]
+    a, b = ti.pair_jumps(ya, side, yb, side[:2], 0.5 * mm)       # by distance alone
+    assert a.tolist() == [0, 1, -1, -1] and b.tolist() == [0, 1]
+    # alike movements leave the pairing by distance as it was; an unlike pair still pairs
+    # where nothing alike is near (it costs what leaving the moving jump unpaired does)
+    a, b = ti.pair_jumps(ya[2:], side[2:], yb, side[:2], 0.5 * mm, ma[2:], mb)
+    assert a.tolist() == [0, 1] and b.tolist() == [0, 1]
+    a, b = ti.pair_jumps(ya[:1], side[:1], yb[:1], side[:1], 0.5 * mm, ma[:1], mb[:1])
+    assert a.tolist() == [0] and b.tolist() == [0]
+
+
+def test_an_unpaired_jump_is_never_read_across_a_paired_one_the_curve_put_below():
+    """Column 0's jumps: an unpaired one on the right wheel at 1.02 mm, then the left wheel's
+    at 1.2 mm, paired with column 1's at 0.7 mm. Halfway between the columns the pair's curve
+    lies at 0.95 mm: a query at 0.99 mm is above it, so column 0 is read above its 1.2 mm jump
+    too. By its own position the unpaired jump at 1.02 mm counted as above the query, and
+    column 0 was read between its two jumps, on the tread (the paper's pair at yaw 0.03 rad,
+    y = 6.15 mm: 6.5 mm of rolling radius off). Here column 0's piece above 1.2 mm would be
+    extended too far, so column 1 answers alone: its flange value."""
+    mm = 1e-3
+    y_axis = np.linspace(-2, 2, 9) * mm
+    yaw_axis = np.array([0.0, 0.01])
+    at = np.array([[1.02, 1.2], [0.7, np.nan]]) * mm
+    rr = np.empty((9, 2))
+    rr[:, 0] = np.where(y_axis >= at[0, 1], 0.47, np.where(y_axis >= at[0, 0], 0.461, 0.46))
+    rr[:, 1] = np.where(y_axis >= at[1, 0], 0.47, 0.46)
+    lo, hi = at - 2e-6, at + 2e-6
+    lim = np.full((2, 2, 2), np.nan)
+    lim[0, 0], lim[0, 1], lim[1, 0] = (0.46, 0.461), (0.461, 0.47), (0.46, 0.47)
+    jumps = {"jump_y": at, "jump_y_lo": lo, "jump_y_hi": hi,
+             "jump_side": np.array([[2, 1], [1, 0]], np.int8)}
+    ip = ti.build(y_axis, yaw_axis, {"rolling_radius": rr}, jumps, {"rolling_radius": lim})
+    assert ip.up[0].tolist() == [-1, 0] and ip.down[1, :1].tolist() == [1]
+    v = ip.evaluate(np.array([0.99 * mm]), np.array([0.005]))[0]
+    assert v[0] == pytest.approx(0.47, abs=1e-12)
+    v = ip.evaluate(np.array([0.9 * mm]), np.array([0.005]))[0]      # below the curve: tread
+    assert v[0] < 0.4611
+
+
 def _branch(y, upper):
     """Rolling radius (m) of :func:`_one_jump_curve`'s table: flange branch above its jump."""
     return np.where(upper, 0.47 + y, 0.46 + 0.05 * y)
