@@ -330,6 +330,16 @@ MUTATIONS: tuple[Mutation, ...] = (
       "            return _narrow(", (T_JUMPS,),
       "an interval too narrow to halve whose contact still moves by more than 0.5 mm is left "
       "to the straight line (the pre-2026-11-28 refinement)"),
+    M("pair_moves_ignored", "jump-aware tables", "lutmpi/table/interp.py",
+      "MOVE_WEIGHT = 0.25\n", "MOVE_WEIGHT = 0.0\n", (T_JUMPS,),
+      "jumps of neighbouring yaw columns pair by position and wheel alone, not by how they "
+      "move the main contact (the pairing before 2026-11-28, third part)"),
+    M("unpaired_by_position", "jump-aware tables", "lutmpi/table/lookup.py",
+      "        if k < below or (k < above and jy[c, k] <= y):",
+      "        if jy[c, k] <= y:", (T_JUMPS,),
+      "a column's unpaired jumps count by their own position even across a paired jump the "
+      "jump curve puts on the other side of the query (the lookup before 2026-11-28, third "
+      "part)"),
     M("roll_even_in_y", "jump-aware tables", "lutmpi/table/schema.py",
       '"roll angle theta_x", signs=(-1, 1)),', '"roll angle theta_x", signs=(1, 1)),',
       (T_MIRROR,), "a symmetric pair's reflection y -> -y keeps the roll's sign (the mirrored "

@@ -16,13 +16,15 @@ Representation (built once per table and method, :func:`build`):
 * The jumps of neighbouring yaw columns are paired one by one (:func:`pair_jumps`: the
   order-keeping pairing of least distance, on the same wheel (or wheel masks that share one, at
   a cost: :func:`_mask_cost`), within :data:`PAIR_STEPS` grid steps of y or farther where the
-  jumps all moved farther). The same count of jumps is not taken
+  jumps all moved farther; alike jumps first, by how they move each wheel's main contact:
+  :func:`_move_classes`). The same count of jumps is not taken
   to mean the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
   another cluster gains one (on the Manchester 37x37 load-centre table, pairing by index put
   jumps 4 mm apart together and the rolling radius between those columns erred by up to 8.9 mm).
 * A paired jump's position at the query's yaw lies on its jump curve, a cubic in yaw through its
   positions in up to four columns (:func:`~lutmpi.table.lookup._jump_at`); it decides the side for
-  both columns. An unpaired jump decides only for its own column.
+  both columns. An unpaired jump decides only for its own column, and never across a paired
+  jump of that column (:func:`~lutmpi.table.lookup._unpaired_below`).
 * Along yaw: a cubic (Catmull-Rom: centred-difference slopes from the outer columns j - 1 and j +
   2) between the two neighbouring columns, every column evaluated *on the same side of the same
   jump curve*. A column whose own jump lies on the other side of the query is evaluated by
