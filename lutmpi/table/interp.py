@@ -34,8 +34,10 @@ Representation (built once per table and method, :func:`build`):
   bounded by paired jumps (or the grid's ends); an outer column answers where its piece corresponds
   too, else the slope there is the second-order one-sided one (in an edge cell too), or the secant
   when neither outer column answers. Where the two pieces do not correspond (a jump without a
-  partner bounds one of them) the blend is linear. On a column the yaw slope is the cubic's (the
-  same from either cell).
+  partner bounds one of them) the blend is linear, except for the quantities that do not jump
+  more than a grid step of y from every jump of the four columns: their outer columns are read
+  in their own pieces (:func:`~lutmpi.table.lookup._gap_to_jumps`). On a column the yaw slope
+  is the cubic's (the same from either cell).
 * Beside a paired jump (within :data:`~lutmpi.table.lookup.WARP_STEPS` grid steps of y), the
   quantities that jump are read in each column at the query's distance from that column's own jump,
   not at the query's y (:func:`~lutmpi.table.lookup._warp`): the contact runs up a steep onset next
@@ -458,7 +460,9 @@ def _move_classes(m: np.ndarray | None, n: int) -> np.ndarray:
     off)."""
     if m is None:
         return np.zeros((n, 0), np.int64)
-    m = np.asarray(m, float).reshape(n, -1)
+    m = np.asarray(m, float)
+    if m.ndim == 1:   # one wheel
+        m = m[:, None]
     out = np.where(m > MOVE_FLOOR_M, 1, np.where(m < -MOVE_FLOOR_M, -1, 0))
     return out.astype(np.int64)
 

@@ -147,6 +147,15 @@ def _unpaired_below(jy, nj, pair, c, y, below, above):  # noqa: ANN001
 
 
 @numba.njit(cache=True)
+def _gap_to_jumps(jy, nj, c, y):  # noqa: ANN001
+    """Distance (m) from ``y`` to column ``c``'s nearest jump (inf: none)."""
+    out = np.inf
+    for k in range(nj[c]):
+        out = min(out, abs(y - jy[c, k]))
+    return out
+
+
+@numba.njit(cache=True)
 def _jump_at(jy, up, down, j, k, m, w):  # noqa: ANN001
     """Position (m) of the jump curve through jump ``k`` of column ``j`` and its partner ``m``
     of column j + 1, a fraction ``w`` of the way between them: a cubic in yaw (Catmull-Rom,
@@ -355,11 +364,23 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     _piece_eval(ky, kv, kd, mode, j + 1, pstart[j + 1, p1], pstart[j + 1, p1 + 1], y, 1.0,
                 tmp_v[2], tmp_d[2], False)
     h_y = (y_axis[-1] - y_axis[0]) / (y_axis.size - 1) if y_axis.size > 1 else 0.0
+    h_y0 = (y_axis[-1] - y_axis[0]) / (y_axis.size - 1) if y_axis.size > 1 else 0.0
     # the outer columns' pieces (the cubic in yaw below)
     pl = _corresponding(down, nj, j, j - 1, p0) if paired and j >= 1 else -1
     pu = _corresponding(up, nj, j + 1, j + 2, p1) if paired and j + 2 <= na - 1 else -1
     lower = pl >= 0
     upper = pu >= 0
+    ql, qu = pl, pu
+    if not lower and j >= 1:
+        ql = _piece_of(jy, nj, j - 1, y)
+        if min(_gap_to_jumps(jy, nj, j - 1, y), _gap_to_jumps(jy, nj, j, y),
+               _gap_to_jumps(jy, nj, j + 1, y)) < WARP_STEPS * h_y0:
+            ql = -1
+    if not upper and j + 2 <= na - 1:
+        qu = _piece_of(jy, nj, j + 2, y)
+        if min(_gap_to_jumps(jy, nj, j + 2, y), _gap_to_jumps(jy, nj, j, y),
+               _gap_to_jumps(jy, nj, j + 1, y)) < WARP_STEPS * h_y0:
+            qu = -1
     # the quantities that jump are read in each column at the query's distance from the
     # piece's bounding jumps (:func:`_warp`), where the pieces correspond and every column
     # allows it
@@ -407,11 +428,11 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     # the rows the quantities that jump read: 4-7 where they are read apart from y, else the
     # same rows as the others (0-3)
     ow = 4 if warp else 0
-    if lower:
-        _piece_eval(ky, kv, kd, mode, j - 1, pstart[j - 1, pl], pstart[j - 1, pl + 1], y, 1.0,
+    if ql >= 0:
+        _piece_eval(ky, kv, kd, mode, j - 1, pstart[j - 1, ql], pstart[j - 1, ql + 1], y, 1.0,
                     tmp_v[0], tmp_d[0], False)
-    if upper:
-        _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, pu], pstart[j + 2, pu + 1], y, 1.0,
+    if qu >= 0:
+        _piece_eval(ky, kv, kd, mode, j + 2, pstart[j + 2, qu], pstart[j + 2, qu + 1], y, 1.0,
                     tmp_v[3], tmp_d[3], False)
     if warp:
         if lower:
@@ -427,7 +448,7 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     # each column's contacts in the order of the nearer column's (:func:`match_slots`)
     ref = 1 if w < 0.5 else 2
     for r in range(4):
-        if r != ref and (r in (1, 2) or (r == 0 and lower) or (r == 3 and upper)):
+        if r != ref and (r in (1, 2) or (r == 0 and ql >= 0) or (r == 3 and qu >= 0)):
             match_slots(tmp_v, tmp_d, r, ref, slot_pair, slot_wheel, slot_s)
             if warp and (r in (1, 2) or (r == 0 and lower_j) or (r == 3 and upper_j)):
                 match_slots(tmp_v, tmp_d, r + 4, ref + 4, slot_pair, slot_wheel, slot_s)
@@ -476,8 +497,10 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
         mb = b - a
         sa = db - da
         sb = db - da
-        lo_ok = (lower_j if jumps[c] else lower) and np.isfinite(v0) and not (lo_far and jumps[c])
-        up_ok = (upper_j if jumps[c] else upper) and np.isfinite(v3) and not (up_far and jumps[c])
+        lo_ok = (lower_j if jumps[c] else ql >= 0) and np.isfinite(v0) and not (
+            lo_far and jumps[c])
+        up_ok = (upper_j if jumps[c] else qu >= 0) and np.isfinite(v3) and not (
+            up_far and jumps[c])
         if lo_ok:
             ma = 0.5 * (b - v0)
             sa = 0.5 * (db - d0)

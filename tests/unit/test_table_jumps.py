@@ -332,6 +332,9 @@ def test_jumps_that_move_the_main_contact_alike_pair_before_nearer_ones():
     assert a.tolist() == [0, 1] and b.tolist() == [0, 1]
     a, b = ti.pair_jumps(ya[:1], side[:1], yb[:1], side[:1], 0.5 * mm, ma[:1], mb[:1])
     assert a.tolist() == [0] and b.tolist() == [0]
+    # a column without jumps next to one with some (its movements an empty (0, wheels) array)
+    a, b = ti.pair_jumps(ya[:0], side[:0], yb, side[:2], 0.5 * mm, ma[:0], mb)
+    assert a.tolist() == [] and b.tolist() == [-1, -1]
 
 
 def test_an_unpaired_jump_is_never_read_across_a_paired_one_the_curve_put_below():
@@ -360,6 +363,36 @@ def test_an_unpaired_jump_is_never_read_across_a_paired_one_the_curve_put_below(
     assert v[0] == pytest.approx(0.47, abs=1e-12)
     v = ip.evaluate(np.array([0.9 * mm]), np.array([0.005]))[0]      # below the curve: tread
     assert v[0] < 0.4611
+
+
+def test_the_pose_keeps_its_cubic_in_yaw_away_from_the_jumps_of_unmatched_pieces():
+    """z_g quadratic in yaw over five 0.05 rad columns; the middle column holds a jump its
+    neighbours do not (a worn pair's flickering contact), so between it and the next column
+    the two pieces are not bounded by the same jumps. Far from every jump z_g still takes the
+    cubic through the outer columns (exact for a quadratic), not the straight line, which
+    misses by c h^2 / 4 = 62.5 um here (on the audit's 0.05 rad worn pairs the poses off by
+    more than 20 um of z_g fell by 11-40 % where the cubic came back). Within a grid step of
+    a jump the line stays: there the outer columns' kinks lie elsewhere."""
+    y_axis = np.linspace(-4e-3, 4e-3, 17)
+    yaw_axis = np.linspace(-0.1, 0.1, 5)
+    z = 0.46 + 0.1 * yaw_axis[None, :] ** 2 + 0.01 * y_axis[:, None]
+    rr = np.full((17, 5), 0.46)
+    at = np.full((5, 1), np.nan)
+    at[2, 0] = 3e-3
+    rr[y_axis >= at[2, 0], 2] = 0.47
+    lim = np.full((5, 1, 2), np.nan)
+    lim[2, 0] = (0.46, 0.47)
+    zlim = np.full((5, 1, 2), np.nan)
+    zlim[2, 0] = 0.46 + 0.01 * (at[2, 0] + np.array([-2e-6, 2e-6]))
+    jumps = {"jump_y": at, "jump_y_lo": at - 2e-6, "jump_y_hi": at + 2e-6,
+             "jump_side": np.where(np.isfinite(at), 1, 0).astype(np.int8)}
+    ip = ti.build(y_axis, yaw_axis, {"z_g": z, "rolling_radius": rr}, jumps,
+                  {"rolling_radius": lim, "z_g": zlim})
+    v, _, _, flags, _, _ = ip.evaluate(np.array([-2e-3, 2.8e-3]), np.array([0.025, 0.025]))
+    exact = 0.46 + 0.1 * 0.025 ** 2 + 0.01 * np.array([-2e-3, 2.8e-3])
+    assert (flags & ti.UNMATCHED).all()
+    assert v[0, 0] == pytest.approx(exact[0], abs=1e-12)          # the cubic
+    assert v[1, 0] - exact[1] == pytest.approx(0.1 * 0.05 ** 2 / 4, rel=1e-6)  # the line
 
 
 def _branch(y, upper):
