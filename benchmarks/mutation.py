@@ -334,6 +334,10 @@ MUTATIONS: tuple[Mutation, ...] = (
       "MOVE_WEIGHT = 0.25\n", "MOVE_WEIGHT = 0.0\n", (T_JUMPS,),
       "jumps of neighbouring yaw columns pair by position and wheel alone, not by how they "
       "move the main contact (the pairing before 2026-11-28, third part)"),
+    M("move_amounts_ignored", "jump-aware tables", "lutmpi/table/interp.py",
+      "MOVE_RATIO = 3.0\n", "MOVE_RATIO = 1e9\n", (T_JUMPS,),
+      "two jumps moving a wheel's main contact the same way pair as alike whatever the amounts "
+      "(44 mm with 1.3 mm; the pairing of 2026-11-28, third part, before its last change)"),
     M("unpaired_by_position", "jump-aware tables", "lutmpi/table/lookup.py",
       "        if k < below or (k < above and jy[c, k] <= y):",
       "        if jy[c, k] <= y:", (T_JUMPS,),

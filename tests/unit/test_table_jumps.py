@@ -337,6 +337,30 @@ def test_jumps_that_move_the_main_contact_alike_pair_before_nearer_ones():
     assert a.tolist() == [] and b.tolist() == [-1, -1]
 
 
+def test_jumps_moving_the_main_contact_by_amounts_far_apart_are_unlike():
+    """The README's measured asymmetric pair, reference method, yaw -0.1 and -0.09 rad, right
+    wheel (1 mm steps of y): the main contact leaves the flange for the tread by 44.2 mm of
+    wheel profile at y = -5.627 mm in one column and by 38.6 mm at -5.803 mm in the next; a
+    1.3 mm step of the flange contact lies just before each (-5.764, -6.260 mm). By direction
+    alone the 44 mm jump paired with a 5.3 mm one 0.6 mm away and the 38.6 mm jump with the
+    1.3 mm step, and between the columns the tread and flange contacts were blended (6.5 mm of
+    rolling radius off at y = -5.70, yaw -0.095). Amounts more than three times apart are unlike:
+    44 pairs with 38.6 and 1.32 with 1.26."""
+    mm = 1e-3
+    ya = np.array([-6.3848, -5.7793, -5.7637, -5.748, -5.627, -5.1816]) * mm
+    yb = np.array([-6.2715, -6.2598, -6.2441, -5.8066, -5.8027, -5.7988, -5.5215, -5.0449,
+                   -4.5723]) * mm
+    sa = np.array([1, 2, 2, 2, 2, 2], np.int8)
+    sb = np.full(9, 2, np.int8)
+    ma = np.zeros((6, 2))
+    ma[2, 1], ma[4, 1] = 1.32 * mm, 44.24 * mm
+    mb = np.zeros((9, 2))
+    mb[1, 1], mb[4, 1], mb[7, 1] = 1.26 * mm, 38.64 * mm, 5.27 * mm
+    a, b = ti.pair_jumps(ya, sa, yb, sb, 1.0 * mm, ma, mb)
+    assert a[4] == 4 and a[2] == 1
+    assert b.tolist() == [1, 2, -1, 3, 4, -1, -1, 5, -1]
+
+
 def test_an_unpaired_jump_is_never_read_across_a_paired_one_the_curve_put_below():
     """Column 0's jumps: an unpaired one on the right wheel at 1.02 mm, then the left wheel's
     at 1.2 mm, paired with column 1's at 0.7 mm. Halfway between the columns the pair's curve
