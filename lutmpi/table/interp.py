@@ -34,10 +34,12 @@ Representation (built once per table and method, :func:`build`):
   bounded by paired jumps (or the grid's ends); an outer column answers where its piece corresponds
   too, else the slope there is the second-order one-sided one (in an edge cell too), or the secant
   when neither outer column answers. Where the two pieces do not correspond (a jump without a
-  partner bounds one of them) the blend is linear, except for the quantities that do not jump
-  more than a grid step of y from every jump of the four columns: their outer columns are read
-  in their own pieces (:func:`~lutmpi.table.lookup._gap_to_jumps`). On a column the yaw slope
-  is the cubic's (the same from either cell).
+  partner bounds one of them) the blend is linear. The quantities that do not jump (the
+  wheelset's pose) are the exception: an outer column whose piece does not correspond (the
+  inner ones' pieces corresponding or not) still answers them, read in its own piece at y,
+  where neither it nor the two inner columns holds a jump within
+  :data:`~lutmpi.table.lookup.OUTER_STEPS` grid steps of y. On a column the yaw slope is the
+  cubic's (the same from either cell).
 * Beside a paired jump (within :data:`~lutmpi.table.lookup.WARP_STEPS` grid steps of y), the
   quantities that jump are read in each column at the query's distance from that column's own jump,
   not at the query's y (:func:`~lutmpi.table.lookup._warp`): the contact runs up a steep onset next
@@ -207,7 +209,9 @@ class Interpolator:
             Which piece of the column answered: the number of jumps below the query.
         jump_dist : ndarray, (n,)
             Signed distance to the nearest jump, ``y - y_j`` (m; > 0: above it; NaN when the
-            column has none).
+            column has none): a paired jump at its curve's position at the query's yaw, an
+            unpaired one at its own (whose sign can then disagree with ``piece``, where the
+            jump is counted on the side of a paired one of its column).
         """
         y = np.ascontiguousarray(y, dtype=float).ravel()
         yaw = np.ascontiguousarray(yaw, dtype=float).ravel()
@@ -244,6 +248,8 @@ def build(y_axis: np.ndarray, yaw_axis: np.ndarray, arrays: dict[str, np.ndarray
     limits : dict, optional
         name -> ``(nyaw, K, 2, *suffix)``, the one-sided limits at ``jump_y_lo`` / ``jump_y_hi``
         (masked like ``arrays``); a quantity without limits is NaN between the bracket ends.
+        Those of ``wheel_s`` pair the jumps of neighbouring columns (:func:`_moves`) whether
+        or not ``arrays`` holds it: pass every quantity's limits.
     knot_y : ndarray, (nyaw, E), optional
         Extra knots (poses solved after the build), m, NaN padded.
     knots : dict, optional
@@ -400,6 +406,11 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, s
     gap = 0.5 * reach
     # a jump that moves a wheel's main contact pays MOVE_WEIGHT reaches per such wheel left
     # unpaired, or paired with one that moves it otherwise (_unlike): alike pairs first
+    if ma is None or mb is None:
+        ma = mb = None
+    else:
+        ma = np.asarray(ma, float).reshape(na, -1) if na else np.zeros((0, 1))
+        mb = np.asarray(mb, float).reshape(nb, -1) if nb else np.zeros((0, 1))
     ka, kb = _move_classes(ma, na), _move_classes(mb, nb)
     wm = MOVE_WEIGHT * reach
     lone_a = gap + wm * (ka != 0).sum(axis=1)
@@ -417,7 +428,8 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, s
                 best, how = cost[i, k - 1] + lone_b[k - 1], 2
             d = abs(float(ya[i - 1]) - float(yb[k - 1])) + _mask_cost(sa[i - 1], sb[k - 1],
                                                                      reach)
-            unlike = wm * float(_unlike(ka[i - 1], kb[k - 1], ma, mb, i - 1, k - 1))
+            unlike = 0.0 if ma is None else wm * float(_unlike(ka[i - 1], kb[k - 1], ma, mb,
+                                                                 i - 1, k - 1))
             if d < reach and cost[i - 1, k - 1] + d + unlike <= best:
                 best, how = cost[i - 1, k - 1] + d + unlike, 0
             cost[i, k], move[i, k] = best, how
@@ -475,16 +487,24 @@ def _unlike(ka: np.ndarray, kb: np.ndarray, ma: np.ndarray, mb: np.ndarray, i: i
             ) -> int:
     """How many wheels jumps ``i`` (of ``ma``, classes ``ka``) and ``k`` (of ``mb``, ``kb``)
     move the main contact of otherwise (:func:`pair_jumps`): in other classes
-    (:func:`_move_classes`), or the same way by amounts more than :data:`MOVE_RATIO` apart (on
-    a measured pair the main contact leaves the flange by 44 and 39 mm of wheel profile in two
-    neighbouring columns, a 1.3 mm step of the flange contact just before each: by direction
-    alone the 39 mm jump paired with the 1.3 mm step)."""
+    (:func:`_move_classes`: an unknown movement, NaN beside a failed pose, is class 0), or the
+    same way by amounts more than :data:`MOVE_RATIO` apart. On a measured pair the main contact
+    leaves the flange by 44 and 39 mm of wheel profile in two neighbouring columns, a 1.3 mm
+    step of the flange contact just before each: by direction alone the 39 mm jump paired with
+    the 1.3 mm step.
+
+    One per wheel, whether one or both of the two move it: an unlike pair of two moving jumps
+    costs less than leaving both unpaired, so a jump moving the contact the other way repels
+    half as much as one not moving it. Charging each moving jump (what leaving it unpaired
+    costs) measured worse on the paper's 37x37 table (5 poses between columns above 0.1 mm of
+    rolling radius against 2, one above 1 mm): in a flickering cluster it pairs more of the
+    non-moving jumps instead (BENCHMARKS.md, 2026-11-28, third part)."""
     n = 0
     for w in range(ka.size):
         if ka[w] != kb[w]:
             n += 1
         elif ka[w] != 0:
-            a, b = abs(float(ma[i][w])), abs(float(mb[k][w]))
+            a, b = abs(float(ma[i, w])), abs(float(mb[k, w]))
             if max(a, b) > MOVE_RATIO * min(a, b):
                 n += 1
     return n

@@ -19,6 +19,10 @@ EXTEND_STEPS = 0.1
 NARROW_STEPS = 0.25
 #: the reach of :func:`_warp` beside a jump, in grid steps of y
 WARP_STEPS = 1.0
+#: an outer yaw column whose piece does not correspond still gives the quantities that do not
+#: jump their cubic in yaw where it and the two inner columns hold no jump within this many grid
+#: steps of y of the query (:func:`lookup_one`)
+OUTER_STEPS = 1.0
 #: a query this close to a knot or a yaw column (a fraction of the interval) is read on it:
 #: the yaw 0.05 typed by a user lies 4e-16 below the grid's 0.05000000000000002, in the cell
 #: below with a weight of 1e-16 on the column beyond, whose NaN (a failed pose, a second
@@ -364,22 +368,27 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     _piece_eval(ky, kv, kd, mode, j + 1, pstart[j + 1, p1], pstart[j + 1, p1 + 1], y, 1.0,
                 tmp_v[2], tmp_d[2], False)
     h_y = (y_axis[-1] - y_axis[0]) / (y_axis.size - 1) if y_axis.size > 1 else 0.0
-    h_y0 = (y_axis[-1] - y_axis[0]) / (y_axis.size - 1) if y_axis.size > 1 else 0.0
     # the outer columns' pieces (the cubic in yaw below)
     pl = _corresponding(down, nj, j, j - 1, p0) if paired and j >= 1 else -1
     pu = _corresponding(up, nj, j + 1, j + 2, p1) if paired and j + 2 <= na - 1 else -1
     lower = pl >= 0
     upper = pu >= 0
+    # the quantities that do not jump (the wheelset's pose, which only kinks at a jump) read an
+    # outer column whose piece does not correspond in its own piece at y, where that column and
+    # the two inner ones hold no jump within OUTER_STEPS grid steps of y: their cubic in yaw
+    # stays (a straight line between 0.05 rad columns misses z_g by c h^2 / 4, ~60 um on a worn
+    # pair); nearer a jump the outer column's kink lies elsewhere and its slope would mislead
     ql, qu = pl, pu
+    near = OUTER_STEPS * h_y
     if not lower and j >= 1:
         ql = _piece_of(jy, nj, j - 1, y)
         if min(_gap_to_jumps(jy, nj, j - 1, y), _gap_to_jumps(jy, nj, j, y),
-               _gap_to_jumps(jy, nj, j + 1, y)) < WARP_STEPS * h_y0:
+               _gap_to_jumps(jy, nj, j + 1, y)) < near:
             ql = -1
     if not upper and j + 2 <= na - 1:
         qu = _piece_of(jy, nj, j + 2, y)
         if min(_gap_to_jumps(jy, nj, j + 2, y), _gap_to_jumps(jy, nj, j, y),
-               _gap_to_jumps(jy, nj, j + 1, y)) < WARP_STEPS * h_y0:
+               _gap_to_jumps(jy, nj, j + 1, y)) < near:
             qu = -1
     # the quantities that jump are read in each column at the query's distance from the
     # piece's bounding jumps (:func:`_warp`), where the pieces correspond and every column

@@ -335,6 +335,15 @@ def test_jumps_that_move_the_main_contact_alike_pair_before_nearer_ones():
     # a column without jumps next to one with some (its movements an empty (0, wheels) array)
     a, b = ti.pair_jumps(ya[:0], side[:0], yb, side[:2], 0.5 * mm, ma[:0], mb)
     assert a.tolist() == [] and b.tolist() == [-1, -1]
+    # one wheel's movements as 1-D arrays; the alike jump 0.45 mm away wins over a still one
+    # 0.05 mm away (a jump moving the contact the other way repels half as much: it wins there)
+    one = np.ones(2, np.int8)
+    a, b = ti.pair_jumps(np.array([0.0]), one[:1], np.array([0.05, 0.45]) * mm, one, 0.5 * mm,
+                         np.array([5.0]) * mm, np.array([0.0, 5.0]) * mm)
+    assert a.tolist() == [1] and b.tolist() == [-1, 0]
+    a, b = ti.pair_jumps(np.array([0.0]), one[:1], np.array([0.05, 0.45]) * mm, one, 0.5 * mm,
+                         np.array([5.0]) * mm, np.array([-5.0, 5.0]) * mm)
+    assert a.tolist() == [0] and b.tolist() == [0, -1]
 
 
 def test_jumps_moving_the_main_contact_by_amounts_far_apart_are_unlike():
