@@ -380,12 +380,10 @@ def pair_jumps(ya: np.ndarray, sa: np.ndarray, yb: np.ndarray, sb: np.ndarray, s
     left unpaired half the reach; a jump that moves a wheel's main contact
     (:func:`_move_classes`) adds :data:`MOVE_WEIGHT` reaches per such wheel where it is left
     unpaired or paired with one that moves it otherwise (:func:`_unlike`), so that alike jumps
-    pair first. The
-    reach is
-    :data:`PAIR_STEPS` grid steps, or :data:`PAIR_SPREAD` times the median shift of the jumps
-    that are each other's nearest where larger. The same count of jumps is not taken to mean
-    the same jumps: a cluster of the load centre's mesh-step jumps can lose a member while
-    another gains one.
+    pair first. The reach is :data:`PAIR_STEPS` grid steps, or :data:`PAIR_SPREAD` times the
+    median shift of the jumps that are each other's nearest where larger. The same count of
+    jumps is not taken to mean the same jumps: a cluster of the load centre's mesh-step jumps
+    can lose a member while another gains one.
 
     Returns
     -------
@@ -464,8 +462,9 @@ def _mask_cost(a: int, b: int, reach: float) -> float:
 
 def _move_classes(m: np.ndarray | None, n: int) -> np.ndarray:
     """Per jump and wheel, how the jump moves the wheel's main contact along the wheel profile
-    (``m``, m, :func:`_moves`): +1 or -1 by more than :data:`MOVE_FLOOR_M` up or down the
-    profile, else 0 (also where unknown). ``(n, wheels)`` int; ``(n, 0)`` without ``m``.
+    (``m``, m, ``(n, wheels)``, :func:`_moves`): +1 or -1 by more than :data:`MOVE_FLOOR_M`
+    up or down the profile, else 0 (also where unknown). ``(n, wheels)`` int; ``(n, 0)``
+    without ``m``.
 
     :func:`pair_jumps` pairs alike jumps first. A load centre's second contact comes and goes
     in steps of a few µm before the main contact moves to the flange: one column's cluster can
@@ -476,9 +475,6 @@ def _move_classes(m: np.ndarray | None, n: int) -> np.ndarray:
     off)."""
     if m is None:
         return np.zeros((n, 0), np.int64)
-    m = np.asarray(m, float)
-    if m.ndim == 1:   # one wheel
-        m = m[:, None]
     out = np.where(m > MOVE_FLOOR_M, 1, np.where(m < -MOVE_FLOOR_M, -1, 0))
     return out.astype(np.int64)
 

@@ -379,17 +379,17 @@ def lookup_one(y_axis, yaw_axis, ky, kv, kd, pstart, jy, nj, up, down, mode,  # 
     # stays (a straight line between 0.05 rad columns misses z_g by c h^2 / 4, ~60 um on a worn
     # pair); nearer a jump the outer column's kink lies elsewhere and its slope would mislead
     ql, qu = pl, pu
-    near = OUTER_STEPS * h_y
-    if not lower and j >= 1:
-        ql = _piece_of(jy, nj, j - 1, y)
-        if min(_gap_to_jumps(jy, nj, j - 1, y), _gap_to_jumps(jy, nj, j, y),
-               _gap_to_jumps(jy, nj, j + 1, y)) < near:
-            ql = -1
-    if not upper and j + 2 <= na - 1:
-        qu = _piece_of(jy, nj, j + 2, y)
-        if min(_gap_to_jumps(jy, nj, j + 2, y), _gap_to_jumps(jy, nj, j, y),
-               _gap_to_jumps(jy, nj, j + 1, y)) < near:
-            qu = -1
+    outer_l = not lower and j >= 1
+    outer_u = not upper and j + 2 <= na - 1
+    if outer_l or outer_u:
+        near = OUTER_STEPS * h_y
+        inner = min(_gap_to_jumps(jy, nj, j, y), _gap_to_jumps(jy, nj, j + 1, y))
+        if outer_l:
+            ql = (_piece_of(jy, nj, j - 1, y)
+                  if min(inner, _gap_to_jumps(jy, nj, j - 1, y)) >= near else -1)
+        if outer_u:
+            qu = (_piece_of(jy, nj, j + 2, y)
+                  if min(inner, _gap_to_jumps(jy, nj, j + 2, y)) >= near else -1)
     # the quantities that jump are read in each column at the query's distance from the
     # piece's bounding jumps (:func:`_warp`), where the pieces correspond and every column
     # allows it
