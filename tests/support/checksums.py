@@ -6,7 +6,16 @@ A checksum is the SHA-256 of the bytes of one dataset of one method group, exact
 excluded). They are computed in-process on the configs' own profiles and meshes, over the
 config's grid or a sub-grid of it, for every contact method.
 
-    PYTHONPATH=. .venv/bin/python -m tests.support.checksums   # prints the JSON of the data file
+    PYTHONPATH=. .venv/bin/python -m tests.support.checksums   # prints this CPU class's JSON
+
+The last bits depend on the machine's instruction set: numpy dispatches its float64 ufuncs
+(``sin``, ``arctan2``, ...) and OpenBLAS its kernels by CPU, and on an AVX-512 machine they round
+differently from an AVX2 one (2026-11-28: the same code, on the AMD EPYC VM without AVX-512,
+differed from the Intel Xeon VM's checksums in ``roll`` and ``normal`` of the load centre and
+the max-(normal-)distance methods, and ``x_g`` of max distance, in 5 of 16 method groups). So
+the data file holds one set per CPU class (:func:`cpu_class`), each derived on a machine of its
+class; the test compares with its own class's, and the printed JSON replaces that class's entry
+of the file.
 
 A deliberate change of the arithmetic re-derives the file in its own commit, with the largest
 differences it made: ``--dump FILE.npz`` (in each tree: ``git archive BASE | tar -x -C /tmp/base``,
@@ -99,6 +108,23 @@ CONFIGS = {"paper": "configs/paper_s1002_uic60_1in20.toml",
 #: 7 x 7 of the configs' 37 x 37 points (every 6th value of each axis: same range, flange and
 #: tread poses, both yaw signs); "full" is the whole 37 x 37 grid
 GRIDS = {"7x7": ((-9.0, 9.0, 7), (-0.12, 0.12, 7)), "full": None}
+
+
+def cpu_class() -> str:
+    """The class of CPU whose tables' bits the stored checksums are kept per: numpy's
+    ``AVX512_SKX`` dispatch (``avx512_skx``), else AVX2 with FMA (``x86_64_v3``), else the
+    machine's name."""
+    try:
+        from numpy._core._multiarray_umath import __cpu_features__ as feats
+    except ImportError:   # numpy < 2
+        from numpy.core._multiarray_umath import __cpu_features__ as feats
+    if feats.get("AVX512_SKX"):
+        return "avx512_skx"
+    if feats.get("AVX2") and feats.get("FMA3"):
+        return "x86_64_v3"
+    import platform
+
+    return platform.machine()
 
 
 def table_checksums(config: str, grid: str, methods=ALL_METHODS) -> dict[str, dict[str, str]]:
