@@ -61,6 +61,7 @@ T_MIRROR = "tests/unit/test_table_mirror.py"
 T_ROOTS = "tests/unit/test_rigid_roots.py"
 T_CHECK = "tests/unit/test_check.py::test_zones_count_the_minima_the_samples_do_not_resolve"
 T_SUMS = "tests/unit/test_table_checksums.py"
+T_FLOOR = "tests/unit/test_scan_window_floor.py"
 T_BATCH = ("tests/integration/test_real_solver_parity.py::"
            "test_static_split_with_multi_point_batches_equals_serial")
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
@@ -275,8 +276,11 @@ MUTATIONS: tuple[Mutation, ...] = (
       "    return roll, calls, LOCAL_OK, full\n", (T_ROOTS,),
       "a local root whose whole-profile check failed three times is returned as a root"),
     M("scan_parabola_start", "rigid roots", "lutmpi/contact/rigid_kernels.py",
-      "    h = -gap[ib]\n    step = idx[1] - idx[0]", "    step = idx[1] - idx[0]", (T_ROOTS,),
+      "    h = max(-gap[ib], h2)", "    h = max(h, h2)", (T_ROOTS,),
       "the roll scan starts a wheel's height from the parabola through its coarse samples"),
+    M("floor_without_dip", "rigid roots", "lutmpi/contact/rigid_kernels.py",
+      "    return lb - 0.125 * (ub - lb)", "    return lb", (T_FLOOR,),
+      "the roll scan's window floor leaves out how far a parabola through its gaps can dip"),
     M("rim_unchecked", "rigid roots", "lutmpi/contact/locus.py",
       "        if not (gaps[:, :, 0] < -RIM_TOL).any():",
       "        if True:", (T_ROOTS,),

@@ -173,15 +173,19 @@ class LocusSide:
     lim: np.ndarray  # (u0, du, u_min, u_max) of the rail's height table
     ends: np.ndarray  # (2, 2): (s, r) of the circles at the ends of the wheel's data, m
     zmax: float  # the rail's highest point over its data, m
+    #: (coarse samples, 6): the ranges of their roll-scan refinement windows
+    #: (:func:`~lutmpi.contact.rigid_kernels.window_ranges`)
+    windows: np.ndarray
 
     @classmethod
     def build(cls, name: str, wheel: WheelGeometry, rail: PlacedRail, ds: float) -> LocusSide:
         samp = LocusSampling.build(wheel, ds)
         step = max(1, int(round(SCAN_DS / ds)))
         u0, du, _ = rail.height_table
+        coarse = np.unique(np.append(np.arange(0, samp.s.size, step),
+                                     samp.s.size - 1)).astype(np.int64)
         return cls(name=name, sign=SIDES[name], wheel=wheel, rail=rail, samp=samp,
-                   coarse=np.unique(np.append(np.arange(0, samp.s.size, step),
-                                              samp.s.size - 1)).astype(np.int64),
+                   coarse=coarse, windows=rk.window_ranges(coarse, samp.s, samp.r, samp.dr),
                    lim=np.array([u0, du, rail.u_min, rail.u_max]),
                    ends=np.array([[s, float(wheel.radius(s))]
                                   for s in (wheel.s_min, wheel.s_max)]),
@@ -198,9 +202,12 @@ class LocusSide:
     def scan_args(self) -> tuple:
         """This side's arguments of the compiled roll scan
         (:func:`~lutmpi.contact.roll_scan.scan`): the coarse indices, :attr:`local_args`
-        and contiguous copies of the coarse samples."""
+        contiguous copies of the coarse samples, the ranges of their refinement windows
+        (:func:`~lutmpi.contact.rigid_kernels.window_ranges`) and the rail's range extrema
+        (:func:`~lutmpi.contact.rigid_kernels.extreme_tables`)."""
         sp, c = self.samp, self.coarse
-        return (c, *self.local_args, sp.s[c].copy(), sp.r[c].copy(), sp.dr[c].copy())
+        return (c, *self.local_args, sp.s[c].copy(), sp.r[c].copy(), sp.dr[c].copy(),
+                self.windows, *rk.extreme_tables(self.rail.height_table[2]))
 
     def at_end(self, gap: np.ndarray, i: int) -> bool:
         """True when sample ``i`` (the gap minimum) is a first/last usable point of the wheel,

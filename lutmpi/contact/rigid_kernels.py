@@ -548,7 +548,7 @@ def scan_side_info(sgn, side, R, y, gap, fine, U, PZ):
     gap (``z >= z_c``: the refinement only raises it), that sample's index among the coarse
     ones (-1 when none) and its lateral rail coordinate (m), which
     :func:`~lutmpi.contact.roll_scan.local_slope_bound` bounds the scan's steps by."""
-    idx, s, r, dr, d, tab, lim, s_c, r_c, dr_c = side
+    idx, s, r, dr, d, tab, lim, s_c, r_c, dr_c, wr, zhi, zlo = side
     h, ib = run_gaps(sgn, s_c, r_c, dr_c, d, R, y, lim[0], lim[1], tab, lim[2], lim[3], gap, U,
                      PZ, COARSE)
     if ib < 0:
@@ -558,24 +558,176 @@ def scan_side_info(sgn, side, R, y, gap, fine, U, PZ):
     # 1 mm apart on a worn flange's corner the parabola dips 7 mm below every sample, and the
     # refined runs below can only raise the height (a worn flange thinned by 1.5 mm, y = -1 mm,
     # yaw 0.06 rad: the scan's h 8 mm off, the pose's roots missed: a no_contact hole). The run
-    # around this sample is always refined, so the height is the samples' own
-    h = -gap[ib]
+    # around this sample is always refined (first: the others are then bounded against it), so
+    # the height is the samples' own
     step = idx[1] - idx[0] if idx.size > 1 else 1
+    lo, hi = max(idx[ib] - step, 0), min(idx[ib] + step + 1, s.size)
+    h2, _ = run_gaps(sgn, s[lo:hi], r[lo:hi], dr[lo:hi], d, R, y, lim[0], lim[1], tab, lim[2],
+                     lim[3], fine, U, PZ, WINDOW)
+    h = max(-gap[ib], h2)
     limit = gap[ib] + SCAN_BAND
     n = idx.size
+    sb, cb, f = floor_terms(sgn, R)
     for q in range(n):
         g = gap[q]
-        if not np.isfinite(g):
+        if q == ib or not np.isfinite(g):
             continue
         edge = q == 0 or q == n - 1 or not (np.isfinite(gap[q - 1]) and np.isfinite(gap[q + 1]))
         if not edge:  # the end of the data (a knife edge) is always refined
             if g > limit or gap[q - 1] < g or gap[q + 1] < g:
                 continue  # not a coarse local minimum near the smallest
+        # a window whose every gap (and every parabola through them) lies above the height's
+        # gap cannot raise the height (the maximum of the windows' heights, whatever their
+        # order): not refined (issue 14; the same bits, ~3 us of a scan point's ~9 on the paper's
+        # pair, where both wheels' two ends were refined at every point)
+        if window_floor(sgn, wr[q], d, R, y, lim, tab, zhi, zlo, sb, cb, f) > FLOOR_EPS - h:
+            continue
         lo, hi = max(idx[q] - step, 0), min(idx[q] + step + 1, s.size)
         h2, _ = run_gaps(sgn, s[lo:hi], r[lo:hi], dr[lo:hi], d, R, y, lim[0], lim[1], tab,
                          lim[2], lim[3], fine, U, PZ, WINDOW)
         h = max(h, h2)
     return h, -gap[ib], ib, u_ib
+
+
+#: m: rounding allowance of :func:`window_floor`'s bound (the gaps are sums of terms of ~0.5 m,
+#: exact to ~1e-15 m)
+FLOOR_EPS = 1e-9
+
+
+def window_ranges(idx: np.ndarray, s: np.ndarray, r: np.ndarray, dr: np.ndarray) -> np.ndarray:
+    """Per coarse sample ``idx[q]`` of the roll scan, what :func:`window_floor` bounds its
+    refinement window's gaps by: ``(s_lo, s_hi, r_lo, r_hi, dr_lo, dr_hi)`` (m, m, -) over the
+    window's samples ``s[lo:hi]`` (:func:`scan_side_info`'s ``lo, hi``) and every point between
+    two of them that the resampling evaluates (:func:`_span_min`: ``1 / DIP_SUB**2`` of an
+    interval apart; radius and slope by :func:`_hermite_gap`'s cubic Hermite interpolation,
+    which can overshoot the samples). Pose-independent: once per wheel. Returns shape
+    ``(idx.size, 6)``."""
+    step = int(idx[1] - idx[0]) if idx.size > 1 else 1
+    m2 = DIP_SUB * DIP_SUB
+    t = np.arange(m2 + 1) / m2
+    t2, t3 = t * t, t * t * t
+    h = np.diff(s)[:, None]
+    r0, r1, d0, d1 = r[:-1, None], r[1:, None], dr[:-1, None], dr[1:, None]
+    rq = ((2 * t3 - 3 * t2 + 1) * r0 + (t3 - 2 * t2 + t) * h * d0
+          + (-2 * t3 + 3 * t2) * r1 + (t3 - t2) * h * d1)
+    dq = ((6 * t2 - 6 * t) * (r0 - r1) / h + (3 * t2 - 4 * t + 1) * d0
+          + (3 * t2 - 2 * t) * d1)
+    out = np.empty((idx.size, 6))
+    for q, k in enumerate(idx):
+        lo, hi = max(k - step, 0), min(k + step + 1, s.size)
+        rr, dd = r[lo:hi], dr[lo:hi]
+        if hi - lo > 1:
+            rr = np.concatenate([rr, rq[lo:hi - 1].ravel()])
+            dd = np.concatenate([dd, dq[lo:hi - 1].ravel()])
+        out[q] = s[lo], s[hi - 1], rr.min(), rr.max(), dd.min(), dd.max()
+    return out
+
+
+def extreme_tables(tabz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sparse tables of range maxima and minima of a rail height table's nodes (row ``k``: over
+    ``2 ** k`` nodes from each node, padded with the node's own value), for
+    :func:`window_floor`."""
+    n = tabz.size
+    levels = max(int(n).bit_length(), 1)
+    hi, lo = np.empty((levels, n)), np.empty((levels, n))
+    hi[0], lo[0] = tabz, tabz
+    for k in range(1, levels):
+        w = 1 << (k - 1)
+        hi[k], lo[k] = hi[k - 1], lo[k - 1]
+        hi[k, :n - w] = np.maximum(hi[k - 1, :n - w], hi[k - 1, w:])
+        lo[k, :n - w] = np.minimum(lo[k - 1, :n - w], lo[k - 1, w:])
+    return hi, lo
+
+
+@njit(cache=True, inline="always")
+def _range_extreme(st, j0, j1, top):
+    """The largest (``top``) or smallest node of ``j0 ... j1`` from :func:`extreme_tables`."""
+    k = 0
+    while (2 << k) <= j1 - j0 + 1:
+        k += 1
+    a, b = st[k, j0], st[k, j1 - (1 << k) + 1]
+    return max(a, b) if top else min(a, b)
+
+
+@njit(cache=True, inline="always")
+def _product(a_lo, a_hi, b_lo, b_hi):
+    """The interval ``[a_lo, a_hi] * [b_lo, b_hi]``."""
+    p, q, r, t = a_lo * b_lo, a_lo * b_hi, a_hi * b_lo, a_hi * b_hi
+    return min(min(p, q), min(r, t)), max(max(p, q), max(r, t))
+
+
+@njit(cache=True, inline="always")
+def floor_terms(sgn, R):
+    """What :func:`window_floor` takes of the rotation ``R`` (once per wheel and roll): the sine
+    and cosine of :func:`run_gaps`' angle ``beta`` and the factor of a slope in the ``arcsin``'s
+    argument."""
+    a, b, c = R[0, 0], R[0, 1], R[0, 2]
+    amp = np.sqrt(a * a + c * c)
+    return c / amp, a / amp, b * sgn / amp
+
+
+@njit(cache=True, inline="always")
+def _linear(e0, e1, e2, x_lo, x_hi, y_lo, y_hi, z_lo, z_hi):
+    """The interval ``e0 x + e1 y + e2 z`` over the box ``x, y, z``."""
+    lo = min(e0 * x_lo, e0 * x_hi) + min(e1 * y_lo, e1 * y_hi) + min(e2 * z_lo, e2 * z_hi)
+    hi = max(e0 * x_lo, e0 * x_hi) + max(e1 * y_lo, e1 * y_hi) + max(e2 * z_lo, e2 * z_hi)
+    return lo, hi
+
+
+@njit(cache=True)
+def window_floor(sgn, w, d, R, y, lim, tab, zhi, zlo, sb, cb, f):
+    """A lower bound (m) of the touching gap a roll scan refinement window can give (what
+    :func:`run_gaps` with :data:`WINDOW` returns, negated), from its ranges ``w``
+    (:func:`window_ranges`): interval arithmetic on :func:`_locus_gap`'s point (profile
+    coordinate, radius and slope within their ranges, the locus angle within the range its
+    ``arcsin`` gives; ``d``: the tape-circle distance), the rail's highest node under the lateral
+    range it can reach (``zhi, zlo``: :func:`extreme_tables` of the height table ``tab``),
+    less the most a parabola through three gaps of that range dips below the smallest
+    (:func:`parabola_min`: an eighth of the range). ``+inf`` where no point of the window can be
+    over the rail, ``-inf`` where the range leaves the table by more than a cell. ``sb, cb, f``:
+    the pose's :func:`floor_terms`."""
+    s_lo, s_hi, r_lo, r_hi, dr_lo, dr_hi = w[0], w[1], w[2], w[3], w[4], w[5]
+    x0, x1 = min(max(f * dr_lo, -1.0), 1.0), min(max(f * dr_hi, -1.0), 1.0)
+    x0, x1 = min(x0, x1), max(x0, x1)
+    # sin and cos of the locus angle beta + arcsin(x), x in [x0, x1] (increasing in x): at the
+    # ends by run_gaps' identity, and their extremes inside (sin = +-1 at x = +-cb where
+    # beta is of that sign, cos = 1 at x = -sb), widened by rounding's allowance
+    c0, c1 = np.sqrt(1.0 - x0 * x0), np.sqrt(1.0 - x1 * x1)
+    sn0, sn1 = sb * c0 + cb * x0, sb * c1 + cb * x1
+    cs0, cs1 = cb * c0 - sb * x0, cb * c1 - sb * x1
+    sn_lo, sn_hi = min(sn0, sn1) - 1e-12, max(sn0, sn1) + 1e-12
+    cs_lo, cs_hi = min(cs0, cs1) - 1e-12, max(cs0, cs1) + 1e-12
+    if sb >= 0.0 and x0 <= cb <= x1:
+        sn_hi = 1.0
+    if sb <= 0.0 and x0 <= -cb <= x1:
+        sn_lo = -1.0
+    if x0 <= -sb <= x1:
+        cs_hi = 1.0
+    bx_lo, bx_hi = _product(r_lo, r_hi, sn_lo, sn_hi)
+    nz_lo, nz_hi = _product(r_lo, r_hi, cs_lo, cs_hi)   # -bz
+    by0, by1 = sgn * (d + s_lo), sgn * (d + s_hi)
+    by_lo, by_hi = min(by0, by1), max(by0, by1)
+    bz_lo, bz_hi = -nz_hi, -nz_lo
+    u_lo, u_hi = _linear(R[1, 0], R[1, 1], R[1, 2], bx_lo, bx_hi, by_lo, by_hi, bz_lo, bz_hi)
+    u_lo, u_hi = u_lo + y, u_hi + y
+    pz_lo, pz_hi = _linear(R[2, 0], R[2, 1], R[2, 2], bx_lo, bx_hi, by_lo, by_hi, bz_lo, bz_hi)
+    u_lo, u_hi = min(sgn * u_lo, sgn * u_hi), max(sgn * u_lo, sgn * u_hi)
+    u0, du, u_min, u_max = lim[0], lim[1], lim[2], lim[3]
+    u_lo, u_hi = max(u_lo, u_min), min(u_hi, u_max)
+    if not u_lo <= u_hi:
+        return np.inf       # every point off the rail: the window's gaps are all +inf
+    nt = tab.size
+    # a point past the table's end nodes (u_max lies ~1e-13 m past the last one) extrapolates
+    # the end cell: by at most this over the nodes' extremes
+    over = max(u0 - u_lo, u_hi - (u0 + (nt - 1) * du)) / du
+    if over > 1.0:
+        return -np.inf
+    ext = max(over, 0.0) * max(abs(tab[1] - tab[0]), abs(tab[nt - 1] - tab[nt - 2]))
+    j0 = min(max(int((u_lo - u0) / du), 0), nt - 2)
+    j1 = min(max(int((u_hi - u0) / du), 0), nt - 2) + 1
+    lb = pz_lo - _range_extreme(zhi, j0, j1, True) - ext
+    ub = pz_hi - _range_extreme(zlo, j0, j1, False) + ext
+    return lb - 0.125 * (ub - lb)
 
 
 @njit(cache=True)
