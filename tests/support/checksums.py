@@ -8,14 +8,15 @@ config's grid or a sub-grid of it, for every contact method.
 
     PYTHONPATH=. .venv/bin/python -m tests.support.checksums   # prints this CPU class's JSON
 
-The last bits depend on the machine's instruction set: numpy dispatches its float64 ufuncs
-(``sin``, ``arctan2``, ...) and OpenBLAS its kernels by CPU, and on an AVX-512 machine they round
-differently from an AVX2 one (2026-11-28: the same code, on the AMD EPYC VM without AVX-512,
-differed from the Intel Xeon VM's checksums in ``roll`` and ``normal`` of the load centre and
-the max-(normal-)distance methods, and ``x_g`` of max distance, in 5 of 16 method groups). So
-the data file holds one set per CPU class (:func:`cpu_class`), each derived on a machine of its
-class; the test compares with its own class's, and the printed JSON replaces that class's entry
-of the file.
+The last bits depend on the machine's instruction set: OpenBLAS picks its kernels by CPU (and
+numpy its float64 ufuncs' SIMD code), and on an AVX-512 machine they round differently from an
+AVX2 one (2026-11-28: the same code, on the AMD EPYC VM without AVX-512, differed from the Intel
+Xeon VM's checksums in ``roll`` and ``normal`` of the load centre and the max-(normal-)distance
+methods, and ``x_g`` of max distance, in 5 of 16 method groups; there, ``OPENBLAS_CORETYPE=
+Prescott`` changed 96 datasets, numpy with its AVX2 and FMA code disabled none). So the data
+file holds one set per CPU class (:func:`cpu_class`), each derived on a machine of its class;
+the test compares with its own class's, and the printed JSON replaces that class's entry of the
+file.
 
 A deliberate change of the arithmetic re-derives the file in its own commit, with the largest
 differences it made: ``--dump FILE.npz`` (in each tree: ``git archive BASE | tar -x -C /tmp/base``,

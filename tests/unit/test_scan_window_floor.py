@@ -131,3 +131,29 @@ def test_the_floor_skips_the_far_ends(pair):
                 skipped += rk.window_floor(sgn, wr[q], d, R, y, lim, tab, zhi, zlo,
                                            *rk.floor_terms(sgn, R)) > rk.FLOOR_EPS - h
     assert skipped >= 18, skipped   # of 36 ends, at least half
+
+
+def test_the_floor_allows_for_the_parabolas_dip_below_a_corner():
+    # a wheel whose radius peaks in an asymmetric corner between two samples (slopes +2 and
+    # -0.05) over a flat rail at yaw and roll 0: the window's lowest point is the corner, which
+    # the interval bound meets to rounding (flat rail, the radius's largest Hermite value), and
+    # the parabolas of the resampling dip below it (a sample's neighbours 1 um and 200 um
+    # above it): the floor must lie below the refined gap there too
+    s = np.round(np.arange(-300, 301) * 1e-4, 12)
+    s0 = 3.7e-5                                   # the corner, between two samples
+    r = np.where(s < s0, 0.46 - 2.0 * (s0 - s), 0.46 - 0.05 * (s - s0))
+    dr = np.where(s < s0, 2.0, -0.05)
+    idx = np.unique(np.append(np.arange(0, s.size, 10), s.size - 1)).astype(np.int64)
+    tab = np.zeros(20001)
+    lim = np.array([0.6, 1e-5, 0.6, 0.8])
+    side = (idx, s, r, dr, 0.75, tab, lim, s[idx].copy(), r[idx].copy(), dr[idx].copy(),
+            rk.window_ranges(idx, s, r, dr), *rk.extreme_tables(tab))
+    fine, U, PZ = np.empty(s.size), np.empty(s.size), np.empty(s.size)
+    R = rk.rotation(0.0, 0.0)
+    q = int(np.argmin(np.abs(s[idx] - s0)))
+    got = _window_gap(1.0, side, q, R, 0.0, fine, U, PZ)
+    floor = rk.window_floor(1.0, side[10][q], 0.75, R, 0.0, lim, tab, side[11], side[12],
+                            *rk.floor_terms(1.0, R))
+    corner = -float(side[10][q][3])               # minus the window's largest radius
+    assert got < corner - 1e-9, (got, corner)     # the resampling's parabola dips below it
+    assert floor <= got, (floor, got)
