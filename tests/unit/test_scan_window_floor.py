@@ -32,6 +32,12 @@ def _window_gap(sgn, side, q, R, y, fine, U, PZ):
     return -h2
 
 
+def _scan_setup(pair):
+    """The pair's locus solver, its scan's per-side arguments and the scan's work arrays."""
+    L = _local_bound_scene(pair).locus
+    return L, L._scan_sides, rs._scratch(*L._scan_sides)
+
+
 def _poses(L, n, seed):
     rng = np.random.default_rng(seed)
     lo, hi = float(L.scan_rolls[0]), float(L.scan_rolls[-1])
@@ -46,9 +52,7 @@ def test_the_window_floor_bounds_every_window(pair):
     # them, not only the ones the scan refines), and it is close enough to skip most far
     # windows: a missing term (the Hermite overshoot, the parabola's dip, the locus angle's
     # range) would break the first, a floor at -inf the second
-    L = _local_bound_scene(pair).locus
-    sides = L._scan_sides
-    gl, gr, fine, U, PZ = rs._scratch(*sides)
+    L, sides, (gl, gr, fine, U, PZ) = _scan_setup(pair)
     checked = above = 0
     worst = np.inf
     for y, yaw, roll in _poses(L, 150, 3):
@@ -97,11 +101,8 @@ def _reference_height(sgn, side, R, y, gap, fine, U, PZ):
 @pytest.mark.parametrize("pair", PAIRS)
 def test_the_scan_height_is_the_same_bits(pair):
     # the scan point's height with windows skipped by the floor equals the height with every
-    # selected window refined, to the bit, and the floor does skip windows (the two ends of
-    # each wheel's data were refined at every scan point)
-    L = _local_bound_scene(pair).locus
-    sides = L._scan_sides
-    gl, gr, fine, U, PZ = rs._scratch(*sides)
+    # selected window refined, to the bit (the skipping itself: the test below)
+    L, sides, (gl, gr, fine, U, PZ) = _scan_setup(pair)
     n = 0
     for y, yaw, roll in _poses(L, 400, 4):
         R = rk.rotation(yaw, roll)
@@ -118,9 +119,7 @@ def test_the_floor_skips_the_far_ends(pair):
     # at roll 0 and yaw 0 on every pair, the first and last coarse samples' windows (the ends of
     # the data, refined whatever their gap) lie far enough above the smallest gap that the
     # floor rules them out: the point of the floor
-    L = _local_bound_scene(pair).locus
-    sides = L._scan_sides
-    gl, gr, fine, U, PZ = rs._scratch(*sides)
+    _, sides, (gl, gr, fine, U, PZ) = _scan_setup(pair)
     skipped = 0
     for y in np.linspace(-4, 4, 9) * MM:
         R = rk.rotation(0.0, 0.0)
