@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from lutmpi.geometry.fused import body_to_track
 from lutmpi.profiles.spline import ppoly_at
 
 SCAN_BAND = 5e-3  # m, coarse gap minima this close to the smallest are refined on all samples
@@ -784,7 +785,6 @@ def rigid_contacts(gap, s, sgn, d, r0, pp, y, yaw, roll, z_g, double_tol, max_co
     zc, zx, dc, dx = pp
     idx = contact_minima(gap, double_tol, max_contacts)
     R = rotation(yaw, roll)
-    centre = np.array([0.0, y, z_g])
     a, b, c = R[0, 0], R[0, 1], R[0, 2]
     amp = np.hypot(a, c)
     beta = np.arctan2(c, a)
@@ -807,11 +807,11 @@ def rigid_contacts(gap, s, sgn, d, r0, pp, y, yaw, roll, z_g, double_tol, max_co
         r = r0 + ppoly_at(zc, zx, sv)
         x = b * (sgn * ppoly_at(dc, dx, sv)) / amp
         phi = beta + np.arcsin(min(max(x, -1.0), 1.0))
-        body = np.array([r * np.sin(phi), sgn * (d + sv), -r * np.cos(phi)])
-        p = centre + np.dot(body, R.T)
+        px, py, pz = body_to_track(R, r * np.sin(phi), sgn * (d + sv), -r * np.cos(phi),
+                                   0.0, y, z_g)
         end = not (inner and np.isfinite(gap[i - 1]) and np.isfinite(gap[i + 1]))
-        out[q, 0], out[q, 1], out[q, 2], out[q, 3], out[q, 4] = sv, phi, p[0], p[1], p[2]
-        out[q, 5], out[q, 6], out[q, 7] = sgn * p[1], g, 1.0 if end else 0.0
+        out[q, 0], out[q, 1], out[q, 2], out[q, 3], out[q, 4] = sv, phi, px, py, pz
+        out[q, 5], out[q, 6], out[q, 7] = sgn * py, g, 1.0 if end else 0.0
     return out
 
 

@@ -8,15 +8,20 @@ config's grid or a sub-grid of it, for every contact method.
 
     PYTHONPATH=. .venv/bin/python -m tests.support.checksums   # prints this CPU class's JSON
 
-The last bits depend on the machine's instruction set: OpenBLAS picks its kernels by CPU (and
-numpy its float64 ufuncs' SIMD code), and on an AVX-512 machine they round differently from an
+The last bits depend on the machine's instruction set: on an AVX-512 machine they differ from an
 AVX2 one (2026-11-28: the same code, on the AMD EPYC VM without AVX-512, differed from the Intel
 Xeon VM's checksums in ``roll`` and ``normal`` of the load centre and the max-(normal-)distance
-methods, and ``x_g`` of max distance, in 5 of 16 method groups; there, ``OPENBLAS_CORETYPE=
-Prescott`` changed 96 datasets, numpy with its AVX2 and FMA code disabled none). So the data
-file holds one set per CPU class (:func:`cpu_class`), each derived on a machine of its class;
-the test compares with its own class's, and the printed JSON replaces that class's entry of the
-file.
+methods, and ``x_g`` of max distance, in 5 of 16 method groups). So the data file holds one set
+per CPU class (:func:`cpu_class`), each derived on a machine of its class; the test compares
+with its own class's, and the printed JSON replaces that class's entry of the file. The cause is
+not OpenBLAS's choice of kernel: ``OPENBLAS_CORETYPE=Prescott`` changed 96 datasets (the rigid
+contact points went through numba's ``np.dot``, OpenBLAS ``dgemv``, and on into the mesh
+methods' start), but since they are computed by :func:`lutmpi.geometry.fused.body_to_track`
+(the same bits as the AVX2 kernel) Prescott, Core2, Nehalem, Sandybridge, Haswell and Zen
+kernels give the same full tables to the bit, and a test keeps it so. The 2 x 2 Newton solve
+(LAPACK through numba) gave the same bits under all of them on random systems. Left as
+suspects for the AVX-512 difference: OpenBLAS's AVX-512 ``dgesv`` path and numpy's AVX-512
+float64 ufuncs (SVML), neither of which an AVX2 machine can run.
 
 A deliberate change of the arithmetic re-derives the file in its own commit, with the largest
 differences it made: ``--dump FILE.npz`` (in each tree: ``git archive BASE | tar -x -C /tmp/base``,

@@ -13,9 +13,14 @@ much the tables moved.
 from __future__ import annotations
 
 import json
+import os
+import platform
+import subprocess
+import sys
 
 import pytest
 
+from lutmpi.paths import REPO_ROOT
 from tests.support.checksums import CONFIGS, DATA, cpu_class, table_checksums
 
 CLASSES = json.loads(DATA.read_text())
@@ -45,3 +50,27 @@ def test_subgrid_tables_bit_identical(config):
 def test_full_tables_bit_identical(config):
     # the whole 37 x 37 grid, 4 methods: ~12 s per config on a quiet core
     assert _differences(f"{config}/full") == []
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(platform.machine() not in ("x86_64", "AMD64"),
+                    reason="OPENBLAS_CORETYPE names x86-64 kernels")
+def test_tables_do_not_depend_on_the_blas_kernel_the_cpu_selects():
+    # OpenBLAS picks its kernels by CPU; the SSE3-only Prescott kernels round differently from
+    # the AVX2/FMA ones on any machine. The rigid contact points went through numba's np.dot
+    # (OpenBLAS dgemv) until 2026-11-28: under Prescott the paper's 7 x 7 reference points and
+    # 26 Manchester datasets moved in their last bits.
+    code = ("import json; from tests.support.checksums import CONFIGS, table_checksums; "
+            "print(json.dumps({c: table_checksums(c, '7x7') for c in sorted(CONFIGS)}))")
+    env = dict(os.environ, OPENBLAS_CORETYPE="Prescott",
+               PYTHONPATH=os.pathsep.join(filter(None, [str(REPO_ROOT),
+                                                        os.environ.get("PYTHONPATH")])))
+    run = subprocess.run([sys.executable, "-c", code], cwd=REPO_ROOT, env=env,
+                         capture_output=True, text=True, timeout=600, check=False)
+    assert run.returncode == 0, run.stderr[-2000:]
+    other = json.loads(run.stdout.strip().splitlines()[-1])
+    for config in sorted(CONFIGS):
+        here = table_checksums(config, "7x7")
+        moved = [f"{m}/{name}" for m in here for name in here[m]
+                 if other[config][m][name] != here[m][name]]
+        assert moved == [], f"{config}: datasets that change with OpenBLAS's kernel: {moved}"
