@@ -31,16 +31,25 @@ def check_output_file(path: str | os.PathLike[str] | None, what: str = "output f
     if path is None or not str(path).strip() or not Path(path).name:
         raise OutputError(f"the {what} path {'' if path is None else str(path)!r} names no file")
     p = Path(path)
-    for src in inputs:
-        if src is not None and str(src) != "-" and _same_file(p, Path(src)):
-            raise OutputError(f"{p} ({what}) is the command's input {src}: writing it would "
-                              "destroy the input; give another output path")
+    check_not_input(p, what, inputs)
     if p.is_dir():
         raise OutputError(f"{p} ({what}) is a folder; give a file name")
     if p.exists() and not p.is_file():
         raise OutputError(f"{p} ({what}) exists and is not a regular file; it is never replaced")
     _writable_folder(p.parent if str(p.parent) else Path("."), what)
     return p
+
+
+def check_not_input(path: str | os.PathLike[str], what: str,
+                    inputs: tuple[str | os.PathLike[str] | None, ...]) -> None:
+    """Raise :class:`OutputError` where ``path`` names one of ``inputs`` (the same file by
+    inode, or the same absolute path): writing it would destroy that input (a build's ``-o``
+    given its own config or a profile file; ``-`` and ``None`` are no file)."""
+    p = Path(path)
+    for src in inputs:
+        if src is not None and str(src) != "-" and _same_file(p, Path(src)):
+            raise OutputError(f"{p} ({what}) is the command's input {src}: writing it would "
+                              "destroy the input; give another output path")
 
 
 def check_figure_file(path: str | os.PathLike[str] | None, what: str = "figure",

@@ -32,8 +32,11 @@ def run(args: argparse.Namespace) -> int:
     if args.format == "kpf" and Path(args.output).is_dir():
         check_output_dir(args.output, "KPF output folder")
     elif args.format == "kpf":      # a stem: <stem>.wheel, <stem>.rail (and per side)
-        check_output_file(Path(args.output).with_suffix(".wheel"), "KPF output",
-                          inputs=(args.table,))
+        from lutmpi.export.kpf_format import stem_of, with_ext
+
+        for ext in (".wheel", ".rail"):
+            check_output_file(with_ext(stem_of(Path(args.output)), ext), "KPF output",
+                              inputs=(args.table,))
     else:
         check_output_file(args.output, f"{args.format} output", inputs=(args.table,))
     for path in export(args.table, args.format, args.output, yaw=args.yaw_rad,

@@ -35,6 +35,7 @@ def describe(table: Any, show_config: bool = False) -> str:
     for method in table.methods:
         lines.append(f"\n[{method}]  status: " + ", ".join(
             f"{k} {v}" for k, v in table.status_counts(method).items()))
+        lines += _failed_lines(table, method)
         ct = table.get(D.compute_time, method, raw=True) if D.compute_time in table.quantities \
             else None
         stored = table.jumps.get(method)
@@ -52,6 +53,29 @@ def describe(table: Any, show_config: bool = False) -> str:
     if show_config:
         lines += ["", "# stored configuration", table.config_toml]
     return "\n".join(lines)
+
+
+#: failed grid points listed per method (the rest counted)
+MAX_FAILED_LISTED = 20
+
+
+def _failed_lines(table: Any, method: str) -> list[str]:
+    """The grid points of ``method`` that did not converge: ``y`` (mm), yaw (rad) and status,
+    at most :data:`MAX_FAILED_LISTED` of them (lookups there read NaN)."""
+    from lutmpi.equilibrium.result import CONVERGED, STATUS
+
+    status = table.get(D.status, method, raw=True)
+    bad = np.argwhere(status != CONVERGED)
+    if not bad.size:
+        return []
+    out = [f"  did not converge ({len(bad)} grid points; lookups there read NaN):"]
+    for iy, j in bad[:MAX_FAILED_LISTED]:
+        code = int(status[iy, j])
+        out.append(f"    y {table.y[iy] * 1e3:+9.3f} mm  yaw {table.yaw[j]:+.5f} rad  "
+                   f"{STATUS.get(code, str(code)).split(':')[0]}")
+    if len(bad) > MAX_FAILED_LISTED:
+        out.append(f"    ... and {len(bad) - MAX_FAILED_LISTED} more")
+    return out
 
 
 def _jump_lines(stored: dict[str, Any] | None) -> list[str]:

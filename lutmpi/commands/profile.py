@@ -12,6 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from lutmpi.outpath import check_output_file
 from lutmpi.profiles import GENERATORS, READERS, Profile, generate, read_profile
 from lutmpi.profiles.measures import rail_measures, wheel_measures
 
@@ -68,6 +69,8 @@ def _show(args: argparse.Namespace) -> int:
     if (args.file is None) == (args.generator is None):
         print("lutmpi profile show: give a FILE or --generator NAME", flush=True)
         return 2
+    if args.points:   # before reading: never over the profile it shows
+        check_output_file(args.points, "points output", inputs=(args.file,))
     if args.generator:
         p = generate(args.generator)
     else:

@@ -35,16 +35,18 @@ def run(args: Any) -> int:
     from lutmpi.outpath import check_output_file
     from lutmpi.pose.solve import solve_pose, warm
     from lutmpi.scene import Scene
+    from lutmpi.table.provenance import input_files
 
+    cfg = load_config(args.config)
     if args.output != "-":
-        check_output_file(args.output, "solve output", inputs=(args.config, args.poses))
+        check_output_file(args.output, "solve output",
+                          inputs=(args.config, args.poses, *input_files(cfg).values()))
     poses = read_poses(args.poses) if args.poses else []
     for k, (y, yaw) in enumerate(args.pose):
         check_pose(y, yaw, f"--pose number {k + 1}")
         poses.append((y * 1e-3, yaw))
     if not poses:
         raise ConfigError("no poses: give --poses FILE.csv or --pose Y_MM YAW_RAD")
-    cfg = load_config(args.config)
     scene = Scene.from_config(cfg)
     # the kernels loaded (or, on a cold cache, compiled) before the first pose, outside its
     # time budget (equilibrium.max_pose_time_s), as a build does

@@ -57,11 +57,15 @@ def status_text(code: int) -> str:
 
 def rows(table: Any, j: int, method: str | None = None) -> tuple[list[str], list[list[Any]]]:
     """Header and rows of the 1-D functions at yaw index ``j`` (masked: NaN where not converged)."""
+    from lutmpi.table.api import mask_failed
+
     names = table.quantities
     header: list[str] = []
     out = []
+    # masked here, whatever the table was opened with (export opens it raw for the .mat)
+    grid = mask_failed({n: table.get(n, method, raw=True) for n in names})
     for iy, y in enumerate(table.y):
-        record = {n: table.get(n, method)[iy, j] for n in names}
+        record = {n: grid[n][iy, j] for n in names}
         header, values = record_cells(record)
         status = table.get(D.status, method, raw=True)[iy, j]
         out.append([y * 1e3] + values + [status_text(status)])

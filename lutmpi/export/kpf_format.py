@@ -57,12 +57,13 @@ def rail_columns(u: np.ndarray, z: np.ndarray, origin_u: float) -> tuple[np.ndar
     return y, zz - float(np.interp(0.0, y, zz))
 
 
-def side_columns(config_toml: str) -> dict[str, dict[str, tuple[np.ndarray, np.ndarray]]]:
+def side_columns(config: Any) -> dict[str, dict[str, tuple[np.ndarray, np.ndarray]]]:
     """``side -> {"wheel": (Y, Z), "rail": (Y, Z)}`` in m for a table's resolved configuration
-    (each side as placed: its own profile, wear, inclination and gauge point)."""
+    (:meth:`~lutmpi.table.Table.built_config`; each side as placed: its own profile, wear,
+    inclination and gauge point)."""
     from lutmpi.scene import Scene
 
-    scene = Scene.from_config(table_config(config_toml))
+    scene = Scene.from_config(config)
     out = {}
     for name, side in scene.sides.items():
         wheel, rail = side.wheel, side.rail
@@ -72,13 +73,20 @@ def side_columns(config_toml: str) -> dict[str, dict[str, tuple[np.ndarray, np.n
     return out
 
 
-def table_config(config_toml: str) -> Any:
-    """The :class:`~lutmpi.config.model.Config` a table stores (its resolved TOML)."""
-    import tomllib
+#: extensions an output stem may carry that the files' own replace (``-o case.wheel``)
+STEM_SUFFIXES = (".wheel", ".rail", ".kpf")
 
-    from lutmpi.config.load import config_from_dict
 
-    return config_from_dict(tomllib.loads(config_toml))
+def stem_of(out: Path) -> Path:
+    """The stem of the files for the output ``out`` (not a directory): ``out`` itself, less a
+    ``.wheel``/``.rail``/``.kpf`` extension; any other dot is part of the name
+    (``case.v2`` -> ``case.v2.wheel``, never ``case.wheel``)."""
+    return out.with_suffix("") if out.suffix.lower() in STEM_SUFFIXES else out
+
+
+def with_ext(stem: Path, ext: str) -> Path:
+    """``stem`` + ``ext`` (``.wheel``/``.rail``), keeping every dot of the stem."""
+    return stem.with_name(stem.name + ext)
 
 
 def _write(path: Path, y: np.ndarray, z: np.ndarray, lines: list[str]) -> Path:
@@ -96,8 +104,8 @@ def write(table: Any, out: Path, **_: Any) -> list[Path]:
     the track centre on both sides, so one file serves both when they are mirror images)."""
     from lutmpi.reports.pair import pair_info
 
-    stem = out / Path(table.path).stem if out.is_dir() else out.with_suffix("")
-    sides = side_columns(table.config_toml)
+    stem = out / Path(table.path).stem if out.is_dir() else stem_of(out)
+    sides = side_columns(table.built_config())   # raises where a profile file changed
     same = all(np.array_equal(sides["left"][k][i], sides["right"][k][i])
                for k in ("wheel", "rail") for i in (0, 1))
     head = [f"lutmpi export of {table.path}: {pair_info(table.config_toml).title}",
@@ -106,9 +114,9 @@ def write(table: Any, out: Path, **_: Any) -> list[Path]:
     for name in (("left",) if same else ("left", "right")):
         base = stem if same else stem.with_name(f"{stem.name}_{name}")
         side = "" if same else f"{name} side; "
-        paths.append(_write(base.with_suffix(".wheel"), *sides[name]["wheel"], head + [
+        paths.append(_write(with_ext(base, ".wheel"), *sides[name]["wheel"], head + [
             f"{side}origin: nominal running circle (tape circle); Z = radius increase"]))
-        paths.append(_write(base.with_suffix(".rail"), *sides[name]["rail"], head + [
+        paths.append(_write(with_ext(base, ".rail"), *sides[name]["rail"], head + [
             f"{side}origin: rail surface at the nominal running circle (GAUGE_TO_ORIGO "
             "outside the gauge point)"]))
     return paths

@@ -25,6 +25,7 @@ where it was solved does not enter the file.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import json
 import logging
@@ -118,6 +119,15 @@ def resolve_methods(config: Config, methods: Sequence[str] | None) -> tuple[str,
     return chosen
 
 
+def with_methods(config: Config, methods: tuple[str, ...]) -> Config:
+    """``config`` building ``methods``: ``output.methods`` set to them, ``contact.method``
+    kept where it is one of them, else the first (a config names one of its methods)."""
+    method = config.contact.method if config.contact.method in methods else methods[0]
+    return dataclasses.replace(
+        config, output=dataclasses.replace(config.output, methods=tuple(methods)),
+        contact=dataclasses.replace(config.contact, method=method))
+
+
 def git_commit() -> str:
     """The commit of the source tree lutmpi runs from, or ``""`` when unknown."""
     root = Path(__file__).resolve().parents[2]
@@ -186,6 +196,8 @@ def build_table(config: Config, output_path: str | os.PathLike[str], comm: Any =
     t_start = time.perf_counter()
     grid = Grid.from_config(config.grid)
     chosen = resolve_methods(config, methods)
+    if methods:   # the stored config says what was built: --method replaces output.methods
+        config = with_methods(config, chosen)
     fields = select_fields(config.output.quantities)
     solver = solver or default_solver()
     factory = scene_factory or make_scene

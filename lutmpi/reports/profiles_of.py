@@ -3,15 +3,18 @@ lutmpi's profile coordinates: wheel ``(s, dr(s))``, rail ``(v, z(v))``, m, wear 
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 
-def table_profiles(config_toml: str) -> dict[str, dict[str, tuple[np.ndarray, np.ndarray]]]:
-    """``side -> {"wheel": (s, dr), "rail": (v, z)}`` of a table's ``config_toml``, m."""
-    from lutmpi.export.kpf_format import table_config
+def table_profiles(table: Any) -> dict[str, dict[str, tuple[np.ndarray, np.ndarray]]]:
+    """``side -> {"wheel": (s, dr), "rail": (v, z)}`` of the pair a
+    :class:`~lutmpi.table.Table` was built from, m (its profile files checked against the
+    table's record: :meth:`~lutmpi.table.Table.built_config`)."""
     from lutmpi.scene import Scene
 
-    scene = Scene.from_config(table_config(config_toml))
+    scene = Scene.from_config(table.built_config())
     out = {}
     for name, side in scene.sides.items():
         w, r = side.wheel.profile, side.rail.profile

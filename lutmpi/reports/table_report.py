@@ -103,7 +103,7 @@ def _contact_map(ctx: ReportContext) -> list[str]:
     from lutmpi.reports import geometry_plots as gp
     from lutmpi.reports.profiles_of import table_profiles
 
-    profiles = table_profiles(ctx.table.config_toml)
+    profiles = table_profiles(ctx.table)
     points = {"wheel": ctx.at0(D.wheel_s), "rail": ctx.at0(D.rail_v)}
     path = gp.contact_map(ctx.table.y, profiles, points, ctx.case, ctx.outdir / "contact_map.png")
     lines = ["## Contact points on the profiles", "", ctx.fig(path), ""]
@@ -113,13 +113,10 @@ def _contact_map(ctx: ReportContext) -> list[str]:
 
 
 def _track(ctx: ReportContext, y: float) -> Path:
-    import tomllib
-
-    from lutmpi.config.load import config_from_dict
     from lutmpi.reports.track_plot import plot_track
     from lutmpi.scene import Scene
 
-    scene = Scene.from_config(config_from_dict(tomllib.loads(ctx.table.config_toml)))
+    scene = Scene.from_config(ctx.table.built_config())
     path = ctx.outdir / f"pair_y{y * 1e3:+.1f}mm.png"
     return plot_track(scene, path, y, title=f"{ctx.case}\nto scale at y = {y * 1e3:g} mm, yaw 0 "
                                             "(rigid contact, reference solver)")
@@ -268,6 +265,7 @@ def build_table_report(table_path: str | Path, report_dir: str | Path, *,
     from lutmpi.table import Table
 
     table = Table.open(table_path)
+    table.built_config()   # before any figure: the profile files still the table's (or raise)
     out = Path(report_dir)
     out.mkdir(parents=True, exist_ok=True)
     method = method or table.methods[0]

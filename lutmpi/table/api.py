@@ -179,6 +179,43 @@ class Table:
     def config_toml(self) -> str:
         return str(self.attrs["config_toml"])
 
+    def built_config(self) -> Any:
+        """The :class:`~lutmpi.config.model.Config` the table was built from (its stored,
+        resolved TOML), for what reads the profiles again (KPF export, report's profile plots
+        and direct solves).
+
+        Raises
+        ------
+        TableError
+            An input file (a profile) whose content differs from what the table recorded at
+            build time (its SHA-256 in the ``inputs`` attribute), or that cannot be read: its
+            profile is not the table's any more, and what is made from it would describe
+            another pair.
+        """
+        import tomllib
+
+        from lutmpi.config.load import config_from_dict
+        from lutmpi.table.provenance import file_sha256, input_files
+
+        cfg = config_from_dict(tomllib.loads(self.config_toml))
+        stored = json.loads(self.attrs.get("inputs") or "{}").get("files", {})
+        changed = []
+        for key, path in input_files(cfg).items():
+            want = stored.get(key, {}).get("sha256")
+            if want is None:     # a table made before inputs were recorded: nothing to compare
+                continue
+            got = file_sha256(path)
+            if got != want:
+                changed.append(f"[{key}] {path}: "
+                               + (got if got.startswith("unreadable") else
+                                  f"content differs (sha256 {want[:12]} at build time, "
+                                  f"{got[:12]} now)"))
+        if changed:
+            raise TableError(f"{self.path} was built from profile files that have changed since "
+                             "(what is made from them now would not be the table's pair): "
+                             + "; ".join(changed) + ". Restore the files, or rebuild the table")
+        return cfg
+
     def _method(self, method: str | None) -> str:
         method = method or self.methods[0]
         if method not in self.data:

@@ -50,6 +50,25 @@ def _flatten(obj: Any, prefix: str, keys: dict[str, Any], files: dict[str, dict[
             keys[key] = value
 
 
+def input_files(config: Any) -> dict[str, Path]:
+    """Every file a resolved config reads (dotted key -> path): its profiles and the like, not
+    the config file itself. Commands refuse to write over any of them."""
+    out: dict[str, Path] = {}
+
+    def walk(obj: Any, prefix: str) -> None:
+        for fld in dataclasses.fields(obj):
+            if not prefix and fld.name == "path":
+                continue
+            value, key = getattr(obj, fld.name), f"{prefix}{fld.name}"
+            if dataclasses.is_dataclass(value):
+                walk(value, key + ".")
+            elif isinstance(value, Path):
+                out[key] = value
+
+    walk(config, "")
+    return out
+
+
 def input_record(config: Any) -> dict[str, Any]:
     """The inputs of a build, by content.
 
