@@ -60,7 +60,8 @@ def scene_from_config(cfg: Config) -> Scene:
         gv[name] = _gauge_v(rc.gauge_point, rails[name],
                             f"rail.{name}.gauge_point"
                             if getattr(cfg.rail, name).gauge_point is not None
-                            else "rail.gauge_point")
+                            else "rail.gauge_point",
+                            None if cfg.path is None else str(cfg.path))
     try:
         return _scene(cfg, wheels, rails, r0, d, inc, depth, gv)
     except GeometryError as exc:   # a placement the config's keys cannot give: name the key
@@ -112,10 +113,12 @@ def _scene(cfg: Config, wheels, rails, r0, d, inc, depth, gv) -> Scene:
 END_TOL_M = 1e-5
 
 
-def _gauge_v(point: str | float, rail: Profile, key: str = "rail.gauge_point") -> float | None:
+def _gauge_v(point: str | float, rail: Profile, key: str = "rail.gauge_point",
+             path: str | None = None) -> float | None:
     """The rail profile's lateral coordinate of an explicit gauge point (m), or None.
 
-    ``key`` names the config key in errors (``rail.gauge_point`` or ``rail.<side>.gauge_point``).
+    ``key`` names the config key in errors (``rail.gauge_point`` or ``rail.<side>.gauge_point``),
+    ``path`` the config file.
     """
     if point == "depth":
         return None
@@ -124,7 +127,7 @@ def _gauge_v(point: str | float, rail: Profile, key: str = "rail.gauge_point") -
             raise ConfigError(f"gauge_point = {point!r} names a point of a rail profile file; "
                               f"the rail {rail.name} is not read from a file (a generator): give "
                               "a depth below the rail top (gauge_depth_mm) or a lateral "
-                              "coordinate in mm", key=key)
+                              "coordinate in mm", key=key, path=path)
         v = rail.meta[f"file_{point}_point_mm"][0] * 1e-3
         if rail.y_min - END_TOL_M <= v <= rail.y_max + END_TOL_M:
             v = min(max(v, rail.y_min), rail.y_max)
@@ -133,7 +136,8 @@ def _gauge_v(point: str | float, rail: Profile, key: str = "rail.gauge_point") -
     if rail.y_min - END_TOL_M <= v <= rail.y_max + END_TOL_M:   # an end point copied, rounded
         return min(max(v, rail.y_min), rail.y_max)
     raise ConfigError(f"gauge_point = {point!r} mm is outside the rail profile {rail.name} "
-                      f"(v = {rail.y_min * 1e3:.3f} .. {rail.y_max * 1e3:.3f} mm)", key=key)
+                      f"(v = {rail.y_min * 1e3:.3f} .. {rail.y_max * 1e3:.3f} mm)", key=key,
+                      path=path)
 
 
 def side_profiles(cfg: Config) -> tuple[dict[str, Profile], dict[str, Profile]]:

@@ -155,3 +155,13 @@ def test_a_build_in_which_no_point_converged_is_not_a_success(tmp_path, capfd):
     err = capfd.readouterr().err
     assert "no grid point" in err and "back_to_back_mm" in err and "Traceback" not in err
     assert Table.open(tmp_path / "t.h5").status_counts() == {"no_contact": 3}
+
+
+@pytest.mark.parametrize("rail", ['[rail.right]\ngauge_point = 50.0\n', 'gauge_point = "first"\n'])
+def test_a_gauge_point_error_names_the_config_file(tmp_path, rail, capsys):
+    cfg = tmp_path / "g.toml"
+    cfg.write_text('[wheel]\ngenerator = "S1002"\n[rail]\ngenerator = "UIC60"\n' + rail
+                   + '[grid]\ny_mm = [-2.0, 2.0, 3]\nyaw_rad = [0.0, 0.0, 1]\n')
+    assert main(["solve", str(cfg), "--pose", "0", "0"]) == 1
+    err = capsys.readouterr().err
+    assert f"{cfg}: [rail." in err and "gauge_point]" in err, err
