@@ -26,10 +26,30 @@ def register(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import sys
+
+    from lutmpi.errors import ConfigError
     from lutmpi.export import export
     from lutmpi.outpath import check_output_dir, check_output_file
 
-    if args.format == "kpf" and Path(args.output).is_dir():
+    if args.format != "csv" and args.method is not None:
+        raise ConfigError(f"--method {args.method!r} applies to --format csv only: the "
+                          f"{args.format} export holds "
+                          + ("every method" if args.format == "mat" else "the profile pair"),
+                          key="--method")
+    if args.format == "csv" and args.output == "-":     # standard output, as query and solve
+        from lutmpi.export.csv_format import write_to
+        from lutmpi.table import Table
+
+        write_to(sys.stdout, Table.open(args.table, mask_failed=False), yaw=args.yaw_rad,
+                 method=args.method)
+        return 0
+    if args.format == "mat":
+        from lutmpi.export.mat_format import output_path
+
+        check_output_file(output_path(args.table, Path(args.output)), "mat output",
+                          inputs=(args.table,))
+    elif args.format == "kpf" and Path(args.output).is_dir():
         check_output_dir(args.output, "KPF output folder")
     elif args.format == "kpf":      # a stem: <stem>.wheel, <stem>.rail (and per side)
         from lutmpi.export.kpf_format import stem_of, with_ext

@@ -352,6 +352,10 @@ def _as_profile(value: Any, key: str, where: _Where) -> Path:
     except (OSError, ValueError, RuntimeError) as exc:   # NUL byte, name too long, bad ~user
         raise where.error(key, f"invalid profile path {text!r}: {exc}") from None
     looked = ", ".join(str(c) for c in tried)
+    folders = [str(c) for c in tried if c.is_dir()]
+    if folders:
+        raise where.error(key, f"profile path {text!r} is a folder ({folders[0]}), not a "
+                               "profile file")
     raise where.error(key, f"profile file not found: {text!r} (looked for {looked})")
 
 

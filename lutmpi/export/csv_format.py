@@ -84,16 +84,23 @@ def write_rows(fh: TextIO, header: list[str], data: list[list[Any]]) -> None:
 def write(table: Any, out: Path, *, yaw: float = 0.0, method: str | None = None,
           **_: Any) -> list[Path]:
     """Write the CSV of the functions at ``yaw`` (rad) to ``out`` (a file, or a directory)."""
-    from lutmpi.reports.pair import pair_info
-
     j = yaw_index(table, yaw)
     method = method or table.methods[0]
     if out.is_dir():
         out = out / f"{Path(table.path).stem}_{method}_yaw{table.yaw[j]:+.4f}.csv"
-    header, data = rows(table, j, method)
     with open(out, "w", newline="") as fh:
-        fh.write(f"# lutmpi table {table.path}, method {method}, yaw {table.yaw[j]:.6g} rad\n")
-        fh.write(f"# {pair_info(table.config_toml).title}\n")
-        fh.write("# status codes: " + "; ".join(f"{k} {status_text(k)}" for k in STATUS) + "\n")
-        write_rows(fh, header, data)
+        write_to(fh, table, yaw=yaw, method=method)
     return [out]
+
+
+def write_to(fh: TextIO, table: Any, *, yaw: float = 0.0, method: str | None = None) -> None:
+    """The CSV of the functions at ``yaw`` (rad) into an open text stream (a file, stdout)."""
+    from lutmpi.reports.pair import pair_info
+
+    j = yaw_index(table, yaw)
+    method = method or table.methods[0]     # an unknown one: rows() raises naming the stored
+    header, data = rows(table, j, method)
+    fh.write(f"# lutmpi table {table.path}, method {method}, yaw {table.yaw[j]:.6g} rad\n")
+    fh.write(f"# {pair_info(table.config_toml).title}\n")
+    fh.write("# status codes: " + "; ".join(f"{k} {status_text(k)}" for k in STATUS) + "\n")
+    write_rows(fh, header, data)

@@ -71,14 +71,19 @@ def _jumps(table: Any, method: str) -> dict[str, Any]:
     return node
 
 
+def output_path(table_path: str | Path, out: Path) -> Path:
+    """The file written for ``out``: ``.mat`` added when missing; a directory gets
+    ``<table stem>.mat``."""
+    if out.is_dir():
+        return out / f"{Path(table_path).stem}.mat"
+    return out if out.suffix == ".mat" else out.with_name(out.name + ".mat")
+
+
 def write(table: Any, out: Path, **_: Any) -> list[Path]:
-    """Write ``out`` (``.mat`` added when missing; a directory gets ``<table stem>.mat``)."""
+    """Write :func:`output_path` of ``out``."""
     import scipy.io
 
-    if out.is_dir():
-        out = out / f"{Path(table.path).stem}.mat"
-    elif out.suffix != ".mat":
-        out = out.with_name(out.name + ".mat")
+    out = output_path(table.path, out)
     scipy.io.savemat(out, content(table), do_compression=True, oned_as="column",
                      long_field_names=True)
     return [out]

@@ -165,3 +165,36 @@ def test_a_gauge_point_error_names_the_config_file(tmp_path, rail, capsys):
     assert main(["solve", str(cfg), "--pose", "0", "0"]) == 1
     err = capsys.readouterr().err
     assert f"{cfg}: [rail." in err and "gauge_point]" in err, err
+
+
+def test_export_paths_and_options_are_checked_before_the_work(hook_table, tmp_path, capsys):
+    _, t = hook_table
+    (tmp_path / "m1.mat").mkdir()       # the .mat the writer would add is a folder
+    assert main(["export", str(t), "--format", "mat", "-o", str(tmp_path / "m1")]) == 1
+    err = capsys.readouterr().err
+    assert "m1.mat" in err and "folder" in err and "Traceback" not in err, err
+    (tmp_path / "kp.rail").mkdir()      # checked before kp.wheel is written
+    assert main(["export", str(t), "--format", "kpf", "-o", str(tmp_path / "kp")]) == 1
+    assert not (tmp_path / "kp.wheel").exists()
+    capsys.readouterr()
+    assert main(["export", str(t), "--format", "mat", "--method", "bogus",
+                 "-o", str(tmp_path / "x.mat")]) == 1
+    assert "[--method]" in capsys.readouterr().err and not (tmp_path / "x.mat").exists()
+
+
+def test_csv_export_to_standard_output(hook_table, capsys):
+    _, t = hook_table
+    capsys.readouterr()
+    assert main(["export", str(t), "--format", "csv", "-o", "-"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("# lutmpi table") and "y_mm," in out
+    assert not (REPO_ROOT / "-").exists()
+
+
+def test_a_profile_path_that_is_a_folder_says_so(tmp_path, capsys):
+    (tmp_path / "w.whl").mkdir()
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('[wheel]\nprofile = "w.whl"\n[rail]\ngenerator = "UIC60"\n')
+    assert main(["solve", str(cfg), "--pose", "0", "0"]) == 1
+    err = capsys.readouterr().err
+    assert "[wheel.profile]" in err and "is a folder" in err, err
