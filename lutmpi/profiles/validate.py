@@ -250,9 +250,14 @@ def trim_to_function(raw: RawProfile, path: str, kind: str) -> tuple[np.ndarray,
         i = min(core_bad, key=lambda j: lines[j])
         where = ("between the flange tip region and s = +50 mm" if kind == "wheel"
                  else "within 5 mm below the rail top")
+        # the point walked before it that reaches furthest: an outlier there shows up here
+        step, sign = (fwd, 1.0) if i in shad_r else (-fwd, -1.0)
+        k = max(range(apex, i, step), key=lambda j: sign * y[j], default=apex)
         raise _fail(path, f"points backtrack or repeat y in the contact region {where}: point "
                           f"({y[i]:g}, {z[i]:g}) mm is not beyond the previous ones "
-                          "(reordered, duplicated or overhanging data)", int(lines[i]))
+                          f"(reordered, duplicated or overhanging data; the point of line "
+                          f"{int(lines[k])}, ({y[k]:g}, {z[k]:g}) mm, reaches further: one of "
+                          "the two is out of place)", int(lines[i]))
     idx = np.array(sorted(left, key=lambda j: y[j]) + [apex] + sorted(right, key=lambda j: y[j]))
     n_dropped = y.size - idx.size
     info = {"points_in_file": int(y.size), "points_dropped": int(n_dropped),

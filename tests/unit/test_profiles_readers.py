@@ -318,6 +318,15 @@ def test_backtracking_in_contact_region(tmp_path: Path, profiles_dir: Path):
     _raises_at(_write(tmp_path, "back.prr", lines), 291, "backtrack")
 
 
+def test_an_outlier_point_is_named_with_the_point_it_shadows(tmp_path: Path, profiles_dir: Path):
+    # a single point far out (line 50 of a MiniProf wheel): the monotony breaks at line 51,
+    # the good point after it, so the message names the outlier's line too
+    lines = (profiles_dir / "avg_wheel.whl").read_text().splitlines()
+    lines[49] = "25.00 30.00 0.000"
+    e = _raises_at(_write(tmp_path, "jump.whl", lines), 51, "backtrack")
+    assert "the point of line 50" in str(e) and "one of the two is out of place" in str(e)
+
+
 def test_absurd_units(tmp_path: Path, profiles_dir: Path):
     text = (profiles_dir / "MBench_S1002_v3.prw").read_text()
     unit_line = next(i for i, ln in enumerate(text.splitlines(), 1) if "units.len.f" in ln
