@@ -49,6 +49,11 @@ class TableError(LutmpiError, RuntimeError):
     """A lookup table file is missing, incomplete, of a newer schema, or cannot be written."""
 
 
+class MissingQuantityError(TableError):
+    """A table does not store a quantity asked of it (built with a subset of
+    ``output.quantities``)."""
+
+
 class MPIUnavailableError(LutmpiError, RuntimeError):
     """MPI or parallel HDF5 is needed but not available (e.g. h5py built without MPI)."""
 

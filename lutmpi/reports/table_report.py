@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from lutmpi.errors import MissingQuantityError
 from lutmpi.reports import breaks, indices
 from lutmpi.reports import conicity as con
 from lutmpi.reports.pair import PairInfo, en15302_case, pair_info
@@ -78,22 +79,35 @@ def _functions(ctx: ReportContext) -> list[str]:
     from lutmpi.reports import geometry_plots as gp
 
     y, out, m = ctx.table.y, ctx.outdir, ctx.mask
-    rr, ang = ctx.at0(D.rolling_radius), ctx.at0(D.contact_angle)
-    dr = rr[:, 0, 0] - rr[:, 1, 0]
-    figs = [
-        gp.curve(y, {"Δr = r_left − r_right (main contacts)": dr}, m,
-                 "Rolling-radius difference Δr(y)", ctx.case, "Δr [mm]", out / "delta_r.png", 1e3),
-        gp.per_contact(y, rr - ctx.pair.r0_mm * 1e-3, m, "Rolling radii (minus r0)", ctx.case,
-                       f"r − {ctx.pair.r0_mm:g} mm [mm]", out / "rolling_radii.png", 1e3),
-        gp.per_contact(y, ang, m, "Contact angles (+ toward the flange)", ctx.case,
-                       "contact angle [deg]", out / "contact_angles.png", gp.DEG),
-        gp.curve(y, {"tan γ_left − tan γ_right (main contacts)": indices.delta_tan_gamma(ang)}, m,
-                 "Δtanγ function", ctx.case, "Δtanγ [-]", out / "delta_tan_gamma.png"),
-        gp.curve(y, {"roll (+ raises the left wheel)": ctx.at0(D.roll)}, m, "Roll angle",
-                 ctx.case, "roll [deg]", out / "roll.png", gp.DEG),
-        gp.curve(y, {D.z_g: ctx.at0(D.z_g)}, m, "Height of the wheelset centre above rail top",
-                 ctx.case, "z_g [mm]", out / "z_g.png", 1e3),
+    rr = lambda: ctx.at0(D.rolling_radius)   # noqa: E731
+    ang = lambda: ctx.at0(D.contact_angle)   # noqa: E731
+    # (what a figure shows, the figure); a table of a subset of the quantities draws the rest
+    plots = [
+        ((D.rolling_radius,), lambda: gp.curve(
+            y, {"Δr = r_left − r_right (main contacts)": rr()[:, 0, 0] - rr()[:, 1, 0]}, m,
+            "Rolling-radius difference Δr(y)", ctx.case, "Δr [mm]", out / "delta_r.png", 1e3)),
+        ((D.rolling_radius,), lambda: gp.per_contact(
+            y, rr() - ctx.pair.r0_mm * 1e-3, m, "Rolling radii (minus r0)", ctx.case,
+            f"r − {ctx.pair.r0_mm:g} mm [mm]", out / "rolling_radii.png", 1e3)),
+        ((D.contact_angle,), lambda: gp.per_contact(
+            y, ang(), m, "Contact angles (+ toward the flange)", ctx.case,
+            "contact angle [deg]", out / "contact_angles.png", gp.DEG)),
+        ((D.contact_angle,), lambda: gp.curve(
+            y, {"tan γ_left − tan γ_right (main contacts)": indices.delta_tan_gamma(ang())}, m,
+            "Δtanγ function", ctx.case, "Δtanγ [-]", out / "delta_tan_gamma.png")),
+        ((D.roll,), lambda: gp.curve(
+            y, {"roll (+ raises the left wheel)": ctx.at0(D.roll)}, m, "Roll angle",
+            ctx.case, "roll [deg]", out / "roll.png", gp.DEG)),
+        ((D.z_g,), lambda: gp.curve(
+            y, {D.z_g: ctx.at0(D.z_g)}, m, "Height of the wheelset centre above rail top",
+            ctx.case, "z_g [mm]", out / "z_g.png", 1e3)),
     ]
+    stored = set(ctx.table.quantities)
+    figs = [make() for names, make in plots if stored.issuperset(names)]
+    missing = sorted({n for names, _ in plots for n in names} - stored)
+    if missing:
+        ctx.warnings.append(f"functions of y not drawn for {', '.join(missing)}: the table does "
+                            "not store them")
     return ["## Functions of y", "", "Lines break where a contact jumps (moves more than "
             f"{breaks.JUMP_THRESHOLD * 1e3:g} mm on the wheel between neighbouring poses, appears "
             "or disappears) or the status changes.", ""] + [ctx.fig(f) for f in figs] + [""]
@@ -276,7 +290,13 @@ def build_table_report(table_path: str | Path, report_dir: str | Path, *,
                         breaks.break_mask(table, method, j0), at, band_case)
     lines: list[str] = []
     for section in SECTIONS:
-        lines += section(ctx)
+        try:
+            lines += section(ctx)
+        except MissingQuantityError as exc:   # a table of a subset of the quantities
+            note = (f"section `{section.__name__.lstrip('_')}` left out: the table does not "
+                    f"store what it shows ({exc})")
+            log.warning("%s", note)
+            ctx.warnings.append(note)
     lines += _warnings(ctx)
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from lutmpi.equilibrium.result import CONVERGED, STATUS
-from lutmpi.errors import TableError
+from lutmpi.errors import MissingQuantityError, TableError
 from lutmpi.table import interp as _interp
 from lutmpi.table.schema import KNOTS_GROUP, LIMITS_GROUP, Y_AXIS, YAW_AXIS, D, J
 
@@ -228,8 +228,8 @@ class Table:
         method = self._method(method)
         source = self.data[method] if raw else self._masked[method]
         if name not in source:
-            raise TableError(f"{self.path}: no quantity {name!r} for method {method!r}; stored: "
-                             f"{', '.join(source)}")
+            raise MissingQuantityError(f"{self.path}: no quantity {name!r} for method "
+                                       f"{method!r}; stored: {', '.join(source)}")
         return source[name]
 
     def units(self, name: str, method: str | None = None) -> str:

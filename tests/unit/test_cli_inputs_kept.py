@@ -198,3 +198,13 @@ def test_a_profile_path_that_is_a_folder_says_so(tmp_path, capsys):
     assert main(["solve", str(cfg), "--pose", "0", "0"]) == 1
     err = capsys.readouterr().err
     assert "[wheel.profile]" in err and "is a folder" in err, err
+
+
+def test_a_report_of_a_table_of_some_quantities_leaves_out_what_it_cannot_show(tmp_path):
+    cfg = write_config(tmp_path, ny=5, nyaw=3, quantities=("z_g", "rolling_radius"))
+    t = tmp_path / "q.h5"
+    assert main(["build", str(cfg), "-o", str(t), *HOOK]) == 0
+    assert main(["report", str(t), "-o", str(tmp_path / "rep")]) == 0
+    text = (tmp_path / "rep" / "report.md").read_text()
+    assert "left out: the table does not store" in text and "contact_angle" in text
+    assert "delta_r.png" in text and "z_g.png" in text and "contact_angles.png" not in text
