@@ -4,12 +4,15 @@ amplitude."""
 from __future__ import annotations
 
 import argparse
-import csv
 import logging
+import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from lutmpi.reports.conicity import DrCheck
 
 log = logging.getLogger(__name__)
 
@@ -31,7 +34,9 @@ def register(subparsers: Any) -> None:
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("table", nargs="?", help="lookup table (HDF5) with yaw = 0 on its grid, or "
                      "a run config (.toml)")
-    src.add_argument("--dr", metavar="CSV", help="Δr file: columns y_mm, delta_r_mm (header ok)")
+    src.add_argument("--dr", metavar="CSV",
+                     help="Δr file (UTF-8): a header 'y_mm,delta_r_mm' (the columns read by "
+                          "name, in any order), then one row per y in mm; '#' lines skipped")
     p.add_argument("--method", help="method group of the table (default: its first)")
     p.add_argument("--r0-mm", type=positive, default=None,
                    help="nominal rolling radius (default: the table's, else 460)")
@@ -45,26 +50,101 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=run)
 
 
+#: the columns of a ``--dr`` file (any order, exactly these)
+DR_COLUMNS = ("y_mm", "delta_r_mm")
+
+
 def read_dr_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """``y`` and ``Δr`` in m from a two-column CSV in mm (a non-numeric first line is a header)."""
+    """``y`` and ``Δr`` in m from a UTF-8 CSV in mm with the header ``y_mm,delta_r_mm``.
+
+    The columns are read by their names (any order); another column is an error naming it.
+    Comment (``#``) and blank lines are skipped anywhere. The rows may come in any order; a y
+    given twice is an error naming both lines. A Δr of ``nan`` is a missing value (a hole,
+    see :func:`lutmpi.reports.conicity.check_dr`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The Δr file.
+
+    Returns
+    -------
+    y, dr : ndarray, shape (n,)
+        m, ``y`` strictly increasing.
+
+    Raises
+    ------
+    ConfigError
+        Naming the file and the line: not UTF-8, no or a wrong header, a row with the wrong
+        number of fields, a value that is not a number (or an infinite one, or a NaN y), a
+        repeated y, fewer than 3 rows.
+    """
+    from lutmpi.contact.poses import check_field_count, read_csv_records
     from lutmpi.errors import ConfigError
 
-    rows = []
-    with open(path, newline="") as fh:
-        for n, row in enumerate(csv.reader(fh), 1):
-            if not row or row[0].lstrip().startswith("#"):
-                continue
-            try:
-                rows.append((float(row[0]), float(row[1])))
-            except (ValueError, IndexError) as exc:
-                if n == 1:
-                    continue                   # header
-                raise ConfigError(f"line {n}: expected 'y_mm, delta_r_mm', got {row!r}",
-                                  path=str(path)) from exc
+    path = str(path)
+    records = read_csv_records(path, "Δr file")
+    if not records:
+        raise ConfigError(f"no header and no rows; expected a header '{','.join(DR_COLUMNS)}'",
+                          path=path)
+    index = _dr_header(records[0], path)
+    lines, rows = [], []
+    for n, row in records[1:]:
+        check_field_count(n, row, [c.strip() for c in records[0][1]], path)
+        try:
+            y, dr = (float(row[index[c]]) for c in DR_COLUMNS)
+        except ValueError:
+            raise ConfigError(f"line {n}: expected two numbers {', '.join(DR_COLUMNS)}, got "
+                              f"{row!r}", path=path) from None
+        if not math.isfinite(y) or math.isinf(dr):
+            raise ConfigError(f"line {n}: expected a finite y_mm and delta_r_mm (nan marks a "
+                              f"missing Δr), got {row!r}", path=path)
+        lines.append(n)
+        rows.append((y, dr))
     if len(rows) < 3:
-        raise ConfigError("fewer than 3 rows of y_mm, delta_r_mm", path=str(path))
-    data = np.array(sorted(rows)) * 1e-3
-    return data[:, 0], data[:, 1]
+        raise ConfigError(f"{len(rows)} rows of {', '.join(DR_COLUMNS)}, expected at least 3",
+                          path=path)
+    data = np.array(rows)
+    order = np.argsort(data[:, 0], kind="stable")
+    y_mm = data[order, 0]
+    same = np.flatnonzero(np.diff(y_mm) == 0)
+    if same.size:
+        a, b = sorted((lines[order[same[0]]], lines[order[same[0] + 1]]))
+        raise ConfigError(f"lines {a} and {b}: y_mm = {y_mm[same[0]]:g} given twice; expected "
+                          "one Δr per y", path=path)
+    return y_mm * 1e-3, data[order, 1] * 1e-3
+
+
+def _dr_header(record: tuple[int, list[str]], path: str) -> dict[str, int]:
+    """Column index of each of :data:`DR_COLUMNS` in the header ``record`` (ConfigError naming
+    the line when one is missing, named twice, or another column is there)."""
+    from lutmpi.errors import ConfigError
+
+    line, header = record[0], [h.strip() for h in record[1]]
+    want = f"expected the header '{','.join(DR_COLUMNS)}' (columns in any order)"
+    if all(_is_number(h) for h in header):
+        raise ConfigError(f"line {line}: {want}, got the numbers {header}: name the columns "
+                          "(the order of a file without a header is a guess)", path=path)
+    missing = [c for c in DR_COLUMNS if c not in header]
+    if missing:
+        raise ConfigError(f"line {line}: header lacks {missing}; {want}, got {header}",
+                          path=path)
+    twice = sorted({c for c in header if header.count(c) > 1})
+    if twice:
+        raise ConfigError(f"line {line}: the header names {twice} more than once; {want}",
+                          path=path)
+    other = [c for c in header if c not in DR_COLUMNS]
+    if other:
+        raise ConfigError(f"line {line}: unexpected column(s) {other}; {want}", path=path)
+    return {c: header.index(c) for c in DR_COLUMNS}
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def run(args: argparse.Namespace) -> int:
@@ -98,11 +178,17 @@ def run(args: argparse.Namespace) -> int:
     for line in found.warnings:
         log.warning("%s: %s", label, line)
     y, dr = found.y, found.dr
+    if y.size < 3:
+        raise ConfigError(f"{label}: {y.size} Δr values in the run around y = 0 that holds no "
+                          "missing value, expected at least 3")
     if np.polyfit(y, dr, 1)[0] <= 0:
         log.warning("%s: Δr does not increase with y: no stable kinematic motion (check the sign "
                     "convention: Δr must be positive for y > 0)", label)
     res = conicity_curve(y, dr, amps, r0=(r0_mm or 460.0) * 1e-3, e=args.e_mm * 1e-3)
     unbounded = res.amplitude[np.isnan(res.tan_gamma_e) & ~np.isin(amps, found.beyond)]
+    if not np.isfinite(res.tan_gamma_e).any():   # nothing to print but NaN: a failed command
+        raise ConfigError(f"{label}: no conicity at any of the {amps.size} amplitudes: "
+                          + _why_none(found, unbounded))
     if unbounded.size:
         log.warning("%s: no bounded motion found for amplitudes %s mm (NaN)", label,
                     ", ".join(f"{a * 1e3:g}" for a in unbounded))
@@ -125,6 +211,25 @@ def run(args: argparse.Namespace) -> int:
 
         conicity_plot({label: (res.amplitude, res.tan_gamma_e)}, args.plot)
     return 0
+
+
+def _why_none(found: DrCheck, unbounded: np.ndarray) -> str:
+    """Why no amplitude has a conicity: those beyond the usable Δr data, those without a
+    bounded motion (``found`` a :class:`~lutmpi.reports.conicity.DrCheck`, lengths in m)."""
+    parts = []
+    if found.beyond.size and found.y.size:
+        parts.append(f"{_mm(found.beyond)} mm beyond the usable Δr data (y from "
+                     f"{found.y[0] * 1e3:g} to {found.y[-1] * 1e3:g} mm)")
+    if unbounded.size:
+        parts.append(f"{_mm(unbounded)} mm without a bounded motion (Δr must increase "
+                     "through its zero, positive for y > 0)")
+    return "; ".join(parts)
+
+
+def _mm(values: np.ndarray) -> str:
+    """Amplitudes in m as a short mm list (first and last of a long one)."""
+    v = np.asarray(values) * 1e3
+    return ", ".join(f"{a:g}" for a in v) if v.size <= 4 else f"{v[0]:g} to {v[-1]:g}"
 
 
 def config_dr(path: str | Path, method: str | None = None) -> tuple[np.ndarray, np.ndarray,

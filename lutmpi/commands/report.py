@@ -42,10 +42,38 @@ def register(subparsers: Any) -> None:
                         "solves (and that of OTHER tables of the same pair, e.g. other densities),"
                         " jump-aware vs linear, against build time and size; writes "
                         "REPORT/table_error.md")
-    p.add_argument("--error-target", nargs="+", default=None, metavar="Q=V",
+    p.add_argument("--error-target", nargs="+", default=None, metavar="Q=V", type=error_target,
                    help="with --table-error: name the cheapest table meeting e.g. "
-                        "rolling_radius=5e-6 contact_angle=5e-4 (SI: m, rad)")
+                        "rolling_radius=5e-6 contact_angle=5e-4 (V a number > 0 in SI: m for "
+                        "rolling_radius and z_g, rad for contact_angle and roll; no unit suffix)")
     p.set_defaults(func=run)
+
+
+def error_target(text: str) -> tuple[str, float]:
+    """``Q=V`` of ``--error-target``: a quantity of the table-error report and a finite V > 0 in
+    its SI unit (the schema's: m or rad); anything else is an argparse usage error (exit 2, the
+    option named), given before any table is opened or pose solved."""
+    import math
+
+    from lutmpi.reports.table_error import QUANTITIES
+    from lutmpi.table.schema import FIELDS_BY_NAME
+
+    key, sep, value = text.partition("=")
+    key = key.strip()
+    if not sep or key not in QUANTITIES:
+        raise argparse.ArgumentTypeError(
+            f"expected Q=V with Q one of {', '.join(QUANTITIES)}, got {text!r}")
+    unit = FIELDS_BY_NAME[key].units
+    try:
+        v = float(value)
+    except ValueError:
+        v = math.nan
+    if not (math.isfinite(v) and v > 0.0):
+        example = {"m": "5 um is 5e-6", "rad": "0.5 mrad is 5e-4"}.get(unit, "")
+        raise argparse.ArgumentTypeError(
+            f"{key}: expected a number > 0 in {unit} (SI, no unit suffix: {example}), got "
+            f"{value.strip()!r}")
+    return key, v
 
 
 def run(args: argparse.Namespace) -> int:
@@ -53,6 +81,11 @@ def run(args: argparse.Namespace) -> int:
 
     from lutmpi.outpath import check_output_dir
 
+    if args.error_target and args.table_error is None:
+        from lutmpi.errors import ConfigError
+
+        raise ConfigError("takes effect only with --table-error (the table-error section)",
+                          key="--error-target")
     check_output_dir(args.output, "report folder")
     if args.table_error is not None:
         return _table_error(args)
@@ -74,11 +107,8 @@ def run(args: argparse.Namespace) -> int:
 def _table_error(args: argparse.Namespace) -> int:
     """``--table-error``: :mod:`lutmpi.reports.table_error` on the table(s), direct solves with
     each table's own stored config and method."""
-    import tomllib
     from pathlib import Path
 
-    from lutmpi.config import config_from_dict
-    from lutmpi.errors import ConfigError
     from lutmpi.pose.solve import solve_pose, warm
     from lutmpi.reports import table_error
     from lutmpi.scene import Scene
@@ -86,18 +116,12 @@ def _table_error(args: argparse.Namespace) -> int:
     from lutmpi.table.compute import pose_to_record
     from lutmpi.table.schema import FIELDS
 
-    target = {}
-    for item in args.error_target or []:
-        key, _, value = item.partition("=")
-        if key not in table_error.QUANTITIES or not value:
-            raise ConfigError(f"--error-target {item!r}: expected Q=V with Q one of "
-                              f"{', '.join(table_error.QUANTITIES)}")
-        target[key] = float(value)
+    target = dict(args.error_target or [])   # (Q, V in SI), checked by error_target
     results = []
     for path in [args.outdir, *args.table_error]:
         table = Table.open(path)
         method = args.method or table.methods[0]
-        scene = Scene.from_config(config_from_dict(tomllib.loads(table.config_toml)))
+        scene = Scene.from_config(table.built_config())   # its profiles, unchanged
 
         def solve(y: float, yaw: float, scene: object = scene, method: str = method) -> dict:
             return pose_to_record(solve_pose(scene, y, yaw, method), FIELDS)

@@ -148,22 +148,35 @@ def _centre(f: _PiecewiseLinear) -> float:
     return float(f.y[i]) if len(idx) == 1 else float(0.5 * (f.y[idx[0]] + f.y[idx[-1]]))
 
 
+#: how far (m) an amplitude may exceed half the data's y span and still be computed at the
+#: data's ends: rounding of an amplitude at the edge (3 mm from "2.9:3:0.1" is 3.0000000000000004
+#: mm); the same 1 pm as :func:`check_dr`'s "beyond the table"
+EDGE_SLACK = 1e-12
+
+
 def _turning_points(f: _PiecewiseLinear, y0: float, width: float) -> tuple[float, float] | None:
-    """``y_a`` with ``int_{y_a}^{y_a + width} dr = 0`` bracketed around the centre ``y0``."""
-    lo = max(y0 - width, float(f.y[0]))
-    hi = min(y0, float(f.y[-1]) - width)
-    if lo > hi:
+    """``y_a`` with ``int_{y_a}^{y_a + width} dr = 0`` bracketed around the centre ``y0``.
+
+    ``None`` when the motion leaves the data before turning back. A motion that spans the whole
+    data (an amplitude at the data's edge: ``lo == hi``) is found despite rounding: a bracket
+    value of the wrong sign by no more than the rounding of the integral counts as zero."""
+    span = float(f.y[-1] - f.y[0])
+    if width > span + 2.0 * EDGE_SLACK:
         return None
+    lo = max(y0 - width, float(f.y[0]))
+    hi = max(min(y0, float(f.y[-1]) - width), lo)   # lo > hi only by the slack: the data's ends
 
     def g(ya: float) -> float:
         return f.integral(ya, ya + width)
 
+    # the rounding of g: a few ulps of the largest partial integral of |dr| over the data
+    tol = 64.0 * np.finfo(float).eps * span * float(np.abs(f.dr).max())
     glo, ghi = g(lo), g(hi)
-    if glo > 0 or ghi < 0:       # the motion leaves the data before turning back
+    if glo > tol or ghi < -tol:  # the motion leaves the data before turning back
         return None
-    if glo == 0:
+    if glo >= 0:                 # zero, or above it by rounding only
         return lo, lo + width
-    if ghi == 0:
+    if ghi <= 0:
         return hi, hi + width
     ya = optimize.brentq(g, lo, hi, xtol=1e-15 * max(1.0, abs(y0) + width), rtol=1e-15,
                          maxiter=200)

@@ -195,3 +195,29 @@ def test_config_dr_solves_half_a_symmetric_grid_and_gives_the_same_dr(tmp_path, 
     assert np.isfinite(out["true"][1]).sum() >= 31
     # 33 poses: 17 orbits (y = 0 alone); one warm-up solve each
     assert out["false_n"] == 33 + 1 and out["true_n"] == 17 + 1
+
+
+@pytest.mark.parametrize("half", [3e-3, 6.8e-3, 10e-3])
+@pytest.mark.parametrize("lam", [0.05, 0.2])
+def test_amplitude_at_the_datas_edge_gives_the_cones_conicity(half, lam):
+    """Regression (hostile tester, 2026-11-28): on a cone sampled on ±half, the amplitude
+    ``half`` (turning points at both ends of the data: a one-point bracket) was NaN, its integral
+    of Δr over the whole data -3e-23 instead of 0. The closed form: tan γe = λ, Klingel's
+    wavelength; also for an amplitude a few ulps above the edge (``2.9:3:0.1`` in mm)."""
+    y = np.round(np.linspace(-half, half, int(round(2 * half / 1e-4)) + 1), 12)
+    amps = np.array([half - 1e-4, half, half * (1 + 2e-16), np.nextafter(half, 1.0)])
+    res = conicity_curve(y, 2.0 * lam * y, amps, r0=0.46, e=1.5)
+    np.testing.assert_allclose(res.tan_gamma_e, lam, rtol=1e-6)
+    np.testing.assert_allclose(res.wavelength, 2 * np.pi * np.sqrt(1.5 * 0.46 / (2 * lam)),
+                               rtol=1e-6)
+    np.testing.assert_allclose(res.y_left[1:], y[0], atol=1e-15)
+    # clearly beyond the data: still NaN (never extrapolated)
+    assert np.isnan(equivalent_conicity(y, 2.0 * lam * y, [half + 1e-6])).all()
+
+
+def test_amplitude_at_the_edge_with_an_offset_centre_leaves_the_data():
+    """A diameter offset moves the centre: the motion of amplitude half-span then cannot turn
+    back inside the data, and stays NaN (the rounding tolerance does not hide it)."""
+    y = np.round(np.linspace(-3e-3, 3e-3, 61), 12)
+    c = equivalent_conicity(y, 0.4 * y + 0.04e-3, [2.5e-3, 3e-3])
+    assert c[0] == pytest.approx(0.2, rel=1e-6) and np.isnan(c[1])
