@@ -7,6 +7,7 @@ excluded). They are computed in-process on the configs' own profiles and meshes,
 config's grid or a sub-grid of it, for every contact method.
 
     PYTHONPATH=. .venv/bin/python -m tests.support.checksums   # prints this CPU class's JSON
+    PYTHONPATH=. .venv/bin/python -m tests.support.checksums --dump-values   # the 7 x 7 values
 
 The last bits depend on the machine's instruction set: on an AVX-512 machine they differ from an
 AVX2 one (2026-11-28: the same code, on the AMD EPYC VM without AVX-512, differed from the Intel
@@ -24,7 +25,12 @@ suspects for the AVX-512 difference: OpenBLAS's AVX-512 ``dgesv`` path and numpy
 float64 ufuncs (SVML), neither of which an AVX2 machine can run.
 
 A deliberate change of the arithmetic re-derives the file in its own commit, with the largest
-differences it made: ``--dump FILE.npz`` (in each tree: ``git archive BASE | tar -x -C /tmp/base``,
+differences it made. A machine can derive only its own class's set: the commit then removes the
+other classes' sets (their machines skip the bit tests, saying why) and writes the 7 x 7
+records with ``--dump-values`` (``tests/data/table_values_7x7.npz``), which every machine
+compares by value (:func:`value_differences`, to :data:`VALUE_TOL`), so a class without its own
+set is still held to the tables until one of its machines derives it. To compare trees:
+``--dump FILE.npz`` (in each tree: ``git archive BASE | tar -x -C /tmp/base``,
 ``PYTHONPATH=/tmp/base``) writes the full-grid records, ``--compare A.npz B.npz`` prints the
 largest difference of each dataset and how many poses moved by more than 1e-9.
 
@@ -109,6 +115,16 @@ from lutmpi.table.grid import Grid
 from lutmpi.table.schema import FIELDS, TIMING_FIELDS
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "table_checksums.json"
+#: the 7 x 7 records themselves (both configs, every method), for a CPU class without its own
+#: checksums: compared by value (:func:`value_differences`)
+VALUES = DATA.with_name("table_values_7x7.npz")
+#: a stored value and a computed one agree when ``|a - b| <= VALUE_TOL * max(1, |b|)`` (SI:
+#: 1 nm, 1 nrad; 50 N/m of a k_c of 5e10): last bits of another CPU's rounding, far below any
+#: physics a change could move
+VALUE_TOL = 1e-9
+#: datasets left out of the comparison by value: the count of contact evaluations, a cost that
+#: a last-bit difference can move by one without any stored quantity moving
+NOT_COMPARED = ("iterations",)
 CONFIGS = {"paper": "configs/paper_s1002_uic60_1in20.toml",
            "manchester": "configs/manchester_s1002_uic60_1in40.toml"}
 #: 7 x 7 of the configs' 37 x 37 points (every 6th value of each axis: same range, flange and
@@ -155,6 +171,51 @@ def _records(config: str, grid: str, methods) -> dict[str, dict]:
             for m in methods}
 
 
+def dump_values(path: str | Path = VALUES) -> None:
+    """The 7 x 7 records of both configs, every method, into ``path`` (``.npz``), with the CPU
+    class that computed them (``__cpu_class__``)."""
+    import numpy as np
+
+    out = {"__cpu_class__": np.array(cpu_class())}
+    for config in CONFIGS:
+        for m, recs in _records(config, "7x7", ALL_METHODS).items():
+            out.update({f"{config}/{m}/{name}": arr for name, arr in recs.items()})
+    np.savez_compressed(path, **out)
+
+
+def value_differences(config: str, stored: dict | None = None) -> list[str]:
+    """The datasets of ``config``'s 7 x 7 records that differ from the stored values
+    (:data:`VALUES`) beyond :data:`VALUE_TOL` (NaN where the other is NaN, integers exactly;
+    :data:`NOT_COMPARED` left out), each with its largest difference."""
+    import numpy as np
+
+    if stored is None:
+        with np.load(VALUES) as f:
+            stored = {k: f[k] for k in f.files}
+    got = _records(config, "7x7", ALL_METHODS)
+    out = []
+    for key in sorted(k for k in stored if k.startswith(f"{config}/")):
+        _, m, name = key.split("/")
+        if name in NOT_COMPARED:
+            continue
+        a = np.asarray(got[m][name])
+        b = np.asarray(stored[key])
+        if a.shape != b.shape or a.dtype.kind != b.dtype.kind:
+            out.append(f"{key}: shape/dtype {a.shape}/{a.dtype} vs stored {b.shape}/{b.dtype}")
+        elif a.dtype.kind != "f":
+            if not np.array_equal(a, b):
+                out.append(f"{key}: {int((a != b).sum())} values differ")
+        else:
+            nan_a, nan_b = np.isnan(a), np.isnan(b)
+            d = np.where(nan_a | nan_b, 0.0, np.abs(a - b))
+            bad = (nan_a != nan_b) | (d > VALUE_TOL * np.maximum(1.0, np.abs(np.nan_to_num(b))))
+            if bad.any():
+                out.append(f"{key}: {int(bad.sum())} values beyond the tolerance (largest "
+                           f"difference {float(d.max()):.3g}; NaN patterns "
+                           f"{'differ' if (nan_a != nan_b).any() else 'agree'})")
+    return out
+
+
 def all_checksums(grids=("7x7", "full")) -> dict:
     return {f"{c}/{g}": table_checksums(c, g) for g in grids for c in CONFIGS}
 
@@ -190,6 +251,8 @@ if __name__ == "__main__":
 
     if sys.argv[1:2] == ["--dump"]:
         dump(sys.argv[2])
+    elif sys.argv[1:2] == ["--dump-values"]:
+        dump_values()
     elif sys.argv[1:2] == ["--compare"]:
         compare(sys.argv[2], sys.argv[3])
     else:
