@@ -21,7 +21,11 @@ Design (every rank runs it; ``comm=None`` means one process):
    ``failed``.
 5. Scenes are cached between members whose configurations differ only in what a scene does not
    depend on (grid, output selection, contact method), e.g. the methods of one mesh level.
-6. Rank 0 rewrites ``OUTDIR/index.csv`` and ``OUTDIR/index.json`` after every member.
+6. Rank 0 writes ``OUTDIR/index.csv`` and ``OUTDIR/index.json`` with every member before the
+   first (status ``pending``) and rewrites them after every member; a signal marks the member it
+   stopped as ``interrupted`` and leaves the rest ``pending``. ``--only`` names members of the
+   sweep (another ID is an error); the others keep the status of their complete table on disk,
+   or are ``not selected``.
 """
 
 from __future__ import annotations
@@ -41,13 +45,15 @@ from typing import Any
 
 from lutmpi.config.model import Config, ContactConfig, GridConfig, OutputConfig
 from lutmpi.equilibrium.result import ERROR, STATUS, PoseResult
-from lutmpi.errors import LutmpiError
+from lutmpi.errors import BuildInterruptedError, ConfigError, LutmpiError
 from lutmpi.parallel.comm import SelfComm, root_decides
 from lutmpi.table import provenance
 
 log = logging.getLogger(__name__)
 
 Solver = Callable[[Any, float, float, str], PoseResult]
+#: the index status of a member the sweep has not reached (yet, or ever: it was interrupted)
+PENDING = "pending"
 INDEX_FIELDS = ("id", "status", "message", "skipped", "points", "failed_points", "wall_s",
                 "cpu_s", "ranks", "table", "params")
 
@@ -58,7 +64,8 @@ class MemberRecord:
 
     id: str
     params: dict[str, Any]
-    status: str = "pending"         # ok | partial (some poses failed) | failed | not selected
+    #: ok | partial (some poses failed) | failed | not selected | interrupted | pending
+    status: str = PENDING
     message: str = ""
     skipped: bool = False           # complete table found, not rebuilt
     points: int = 0
@@ -273,50 +280,91 @@ def run_sweep(sweep: str | os.PathLike[str], outdir: str | os.PathLike[str], com
     root_decides(comm, lambda: check_output_dir(out, "sweep output folder"))  # before any work
     root_decides(comm, lambda: len(expand_sweep(sweep)))   # a bad file: rank 0's error, once
     members = expand_sweep(sweep)                      # pure: same list on every rank
+    if only:      # a misspelt ID would select nothing and end "done"
+        root_decides(comm, lambda: _check_only(only, [m.id for m in members], sweep))
     root_decides(comm, lambda: _make_outdir(out))
     cache = SceneCache(scene_factory or make_scene)
-    records: list[MemberRecord] = []
+    # every member is in the index from the start: an interrupted sweep lists what it did not
+    # reach as pending, never as if the sweep had fewer members
+    records = [MemberRecord(m.id, dict(m.params), table=f"{m.id}.h5", ranks=comm.size,
+                            status=PENDING, message="not reached yet") for m in members]
     summary = SweepSummary(out, records)
     base_solver: Solver | None = solver
-    for n, member in enumerate(members, 1):
-        rec = MemberRecord(member.id, dict(member.params), table=f"{member.id}.h5",
-                           ranks=comm.size)
-        records.append(rec)
-        path = out / rec.table
-        state, why = root_decides(comm, lambda p=path, m=member: _table_state(
-            p, provenance.input_record(m.config)))
-        if only and member.id not in only:
-            rec.status, rec.message = "not selected", "not in --only"
+    root_decides(comm, lambda: write_index(out, records))
+    n, rec = 0, records[0] if records else None
+    try:
+        for n, (member, rec) in enumerate(zip(members, records, strict=True), 1):
+            path = out / rec.table
+            state, why = root_decides(comm, lambda p=path, m=member: _table_state(
+                p, provenance.input_record(m.config)))
+            if only and member.id not in only:
+                if state == "complete":     # on disk and this member's: listed as it is
+                    _record_existing(comm, rec, path, state)
+                    rec.message += " (not in --only)"
+                else:
+                    rec.status, rec.message = "not selected", "not in --only" + (
+                        f"; its table on disk is {state}" if state != "absent" else "")
+                root_decides(comm, lambda: write_index(out, records))
+                continue
+            if state == "complete" and not force:
+                _record_existing(comm, rec, path, state)
+                root_decides(comm, lambda: write_index(out, records))
+                continue
+            if state == "different" and not force:
+                rec.status, rec.message = "failed", (
+                    f"{path.name} exists, computed from other inputs ({why}); remove it or use "
+                    "--force to recompute it")
+                root_decides(comm, lambda: write_index(out, records))
+                continue
+            log.info("member %d/%d %s", n, len(members), member.id)
+            t0 = time.perf_counter()
+            try:
+                if base_solver is None:
+                    base_solver = default_solver()
+                build_table(member.config, path, comm, solver=Tolerant(base_solver),
+                            force=force or state == "broken", resume=True, scene_factory=cache)
+            except BuildInterruptedError:   # a LutmpiError, but the sweep's end, not a member's
+                raise
+            except (LutmpiError, ImportError, OSError, ValueError, RuntimeError) as exc:
+                # raised before compute, on every rank alike (comm.root_decides): not a hang
+                rec.status, rec.message = "failed", f"{type(exc).__name__}: {exc}"
+                log.error("member %s failed: %s", member.id, rec.message)
+                log.debug("%s", traceback.format_exc())
+            else:
+                wall = time.perf_counter() - t0
+                _record_built(comm, rec, path, wall)
             root_decides(comm, lambda: write_index(out, records))
-            continue
-        if state == "complete" and not force:
-            _record_existing(comm, rec, path, state)
-            root_decides(comm, lambda: write_index(out, records))
-            continue
-        if state == "different" and not force:
-            rec.status, rec.message = "failed", (
-                f"{path.name} exists, computed from other inputs ({why}); remove it or use "
-                "--force to recompute it")
-            root_decides(comm, lambda: write_index(out, records))
-            continue
-        log.info("member %d/%d %s", n, len(members), member.id)
-        t0 = time.perf_counter()
-        try:
-            if base_solver is None:
-                base_solver = default_solver()
-            build_table(member.config, path, comm, solver=Tolerant(base_solver),
-                        force=force or state == "broken", resume=True, scene_factory=cache)
-        except (LutmpiError, ImportError, OSError, ValueError, RuntimeError) as exc:
-            # raised before compute, on every rank alike (comm.root_decides): not a hang
-            rec.status, rec.message = "failed", f"{type(exc).__name__}: {exc}"
-            log.error("member %s failed: %s", member.id, rec.message)
-            log.debug("%s", traceback.format_exc())
-        else:
-            wall = time.perf_counter() - t0
-            _record_built(comm, rec, path, wall)
-        root_decides(comm, lambda: write_index(out, records))
+    except (BuildInterruptedError, KeyboardInterrupt) as exc:   # a signal: the sweep ends here
+        _interrupted(comm, out, records, rec, n, exc)
+        raise
     log.info("sweep done: %d members: %s", len(records), _status_counts(records))
     return summary
+
+
+def _interrupted(comm: Any, out: Path, records: list[MemberRecord], rec: MemberRecord | None,
+                 n: int, exc: BaseException) -> None:
+    """Mark member ``n`` (``rec``) interrupted in the index and say where the sweep stopped;
+    the members after it stay ``pending``."""
+    if rec is not None and rec.status == PENDING:    # stopped in this member, not after it
+        rec.status = "interrupted"
+        rec.message = (f"{exc or 'interrupted'}; its points so far are kept in "
+                       f"{rec.table}.journal/ (if it got that far): rerun the sweep to resume it")
+    if comm.rank == 0:     # no collective: the other ranks are being interrupted too
+        try:
+            write_index(out, records)
+        except LutmpiError as err:
+            log.error("%s", err)
+    log.error("sweep interrupted at member %d/%d %s; %d not reached: rerun the same command to "
+              "continue", n, len(records), rec.id if rec else "-", len(records) - n)
+
+
+def _check_only(only: Sequence[str], ids: list[str], sweep: Any) -> None:
+    """A ``--only`` ID that is no member of the sweep is a :class:`ConfigError` listing the
+    members."""
+    unknown = [i for i in only if i not in ids]
+    if unknown:
+        raise ConfigError(f"no member {', '.join(map(repr, unknown))} in {sweep}; its members: "
+                          f"{', '.join(ids)}", key="--only")
 
 
 def _make_outdir(out: Path) -> None:
@@ -331,7 +379,7 @@ def _make_outdir(out: Path) -> None:
 def _status_counts(records: Sequence[MemberRecord]) -> str:
     """``"9 ok, 2 partial (a, b), 1 failed (c), 3 not selected"``."""
     out = []
-    for status in ("ok", "partial", "failed", "not selected"):
+    for status in ("ok", "partial", "failed", "interrupted", "not selected", PENDING):
         ids = [r.id for r in records if r.status == status]
         if ids:
             named = status in ("partial", "failed")

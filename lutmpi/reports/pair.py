@@ -66,8 +66,12 @@ def pair_info(config_toml: str) -> PairInfo:
     wear = []
     for part, keys in cfg.get("wear", {}).items():
         for key, value in (keys or {}).items():
-            if value:
-                wear.append(f"{part} {key.removesuffix('_mm').replace('_', ' ')} {value:g} mm")
+            # a side's own wear is a sub-table: [wear.wheel.left] flange_thinning_mm = 1
+            for side, k, v in ([(key, kk, vv) for kk, vv in value.items()]
+                               if isinstance(value, dict) else [("", key, value)]):
+                if v:
+                    wear.append(f"{part}{' ' + side if side else ''} "
+                                f"{k.removesuffix('_mm').replace('_', ' ')} {v:g} mm")
     radii = [float(_side(wheel, n).get("nominal_radius_mm", 460.0)) for n in ("left", "right")]
     return PairInfo(
         wheel=_sides(wheel), rail=_sides(rail),

@@ -154,25 +154,84 @@ def _convergence_md(study: Study, figs: list[str]) -> list[str]:
     return lines
 
 
+#: the config sections a case (one wheel-rail geometry) is made of: what the rigid reference
+#: depends on. Members that differ in any of them are compared each with its own case's
+#: reference, never across cases (a 1:40 member against a 1:20 reference measured the cant)
+CASE_SECTIONS = ("wheel", "rail", "track", "wheelset", "wear", "grid")
+
+
+def case_key(member: MemberTable) -> str:
+    """The geometry case of a member table (:data:`CASE_SECTIONS` of its stored config)."""
+    import tomllib
+
+    cfg = tomllib.loads(member.table["attrs"].get("config_toml", "") or "")
+    return json.dumps({k: cfg.get(k) for k in CASE_SECTIONS}, sort_keys=True, default=str)
+
+
+def _case_labels(keys: list[str]) -> dict[str, str]:
+    """A short label per case: the keys whose values differ between the cases."""
+    flat = {}
+    for key in keys:
+        out: dict[str, Any] = {}
+
+        def walk(d: Any, prefix: str, out: dict[str, Any] = out) -> None:
+            if isinstance(d, dict):
+                for k, v in d.items():
+                    walk(v, f"{prefix}{k}.", out)
+            else:
+                out[prefix.rstrip(".")] = d
+
+        walk(json.loads(key), "")
+        flat[key] = out
+    names = sorted({n for f in flat.values() for n in f})
+    differ = [n for n in names if len({json.dumps(f.get(n), default=str)
+                                       for f in flat.values()}) > 1]
+    return {key: ", ".join(f"{n} = {flat[key].get(n)!r}" for n in differ) or "one case"
+            for key in keys}
+
+
 def _convergence(data: SweepData, report: Path, reference: str) -> tuple[list[str], Study | None]:
+    """The convergence section: one study per geometry case (:func:`case_key`)."""
+    groups: dict[str, list[MemberTable]] = {}
+    for t in data.tables:
+        groups.setdefault(case_key(t), []).append(t)
+    if len(groups) == 1:
+        return _convergence_case(data.tables, report, reference, "")
+    labels = _case_labels(list(groups))
+    lines = ["## Convergence", "", f"The members form {len(groups)} geometry cases; each is "
+             "compared with its own case's reference, never across cases.", ""]
+    study = None
+    for n, (key, tables) in enumerate(sorted(groups.items(), key=lambda kv: labels[kv[0]]), 1):
+        section, st = _convergence_case(tables, report, reference, f"_case{n}")
+        section[0] = f"### Case {n}: {labels[key]}"
+        lines += section
+        study = study or st
+    return lines, study
+
+
+def _convergence_case(tables: list[MemberTable], report: Path, reference: str,
+                      suffix: str) -> tuple[list[str], Study | None]:
     from lutmpi.reports import plots
 
+    if not any(t.method != "reference" for t in tables):
+        return ["## Convergence", "", "Not computed: no mesh-method member in this case.", ""], \
+            None
     try:
-        study = convergence_study(data.tables, reference=reference)
+        study = convergence_study(tables, reference=reference)
     except ValueError as exc:
         return ["## Convergence", "", f"Not computed: {exc}.", ""], None
     if not study.metrics:
         return ["## Convergence", "", "Not computed: no member to compare.", ""], None
-    write_errors_csv(study, report / "errors.csv")
+    write_errors_csv(study, report / f"errors{suffix}.csv")
     figs = []
     for q in QUANTITIES:
         if any(q in m.errors for m in study.metrics):
             figs.append(plots.error_vs_time(study.metrics, q,
-                                            report / f"error_vs_time_{q}.png").name)
+                                            report / f"error_vs_time_{q}{suffix}.png").name)
             figs.append(plots.error_vs_spacing(study.metrics, q, study.orders,
-                                               report / f"error_vs_spacing_{q}.png").name)
-    refs = _references(data.tables, reference)
-    for t in data.tables:
+                                               report / f"error_vs_spacing_{q}{suffix}.png").name)
+    refs = _references(tables, reference)
+    for t in tables:
         ref = refs.get(t.method)
         if ref is None or ref is t:
             continue
@@ -324,7 +383,12 @@ def _status_line(index: list[dict[str, Any]]) -> str:
     label = {"partial": "partial (some poses failed)"}
     order = sorted(counts.items(), key=lambda kv: kv[0] != "ok")
     parts = [f"{n} {label.get(k, k)}" for k, n in order]
-    return f"{len(index)} members: " + ", ".join(parts) + "."
+    line = f"{len(index)} members: " + ", ".join(parts) + "."
+    unfinished = counts.get("pending", 0) + counts.get("interrupted", 0)
+    if unfinished:
+        line += (f" **The sweep is incomplete**: {unfinished} member(s) not built (rerun the "
+                 "sweep to continue it); this report covers the others only.")
+    return line
 
 
 def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "reference",
