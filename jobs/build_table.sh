@@ -12,5 +12,10 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$here/scripts/mpienv.sh"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
 config="$1"; out="$2"; shift 2
+np="${NP:-2}"
+if ! [[ "$np" =~ ^[1-9][0-9]*$ ]]; then   # mpirun -n 0 would take every slot of the node
+  echo "$0: NP must be a number of ranks >= 1, got '$np'" >&2
+  exit 2
+fi
 mkdir -p "$(dirname "$out")"
-exec mpirun -n "${NP:-2}" "$here/.venv/bin/lutmpi" build "$config" -o "$out" "$@"
+exec mpirun -n "$np" "$here/.venv/bin/lutmpi" build "$config" -o "$out" "$@"

@@ -21,7 +21,9 @@ def format_report(report: CheckReport, title: str = "") -> str:
     t = report.tolerances
     rows = [("check", "region", "verdict", "value", "limit")]
     for r in report.results:
-        rows.append((r.name, r.region, "PASS" if r.passed else "FAIL", _num(r.value),
+        rows.append((r.name, r.region,
+                     "n/a" if not r.measured else "PASS" if r.passed else "FAIL",
+                     "-" if not r.measured else _num(r.value),
                      ("<=" if r.name != "convergence" and r.name != "mesh spacing" else ">=")
                      + " " + _num(r.limit)))
     widths = [max(len(row[k]) for row in rows) for k in range(5)]
@@ -47,6 +49,9 @@ def format_report(report: CheckReport, title: str = "") -> str:
         out.append(f"[{k}] {r.name} ({r.region}): {r.message}")
     verdict = "PASS" if report.passed else "FAIL"
     n_fail = sum(not r.passed for r in report.results)
-    out.append(f"{verdict}: {len(report.results) - n_fail}/{len(report.results)} checks passed; "
-               f"{report.n_solves} mesh solves in {report.elapsed:.1f} s")
+    n_na = sum(not r.measured for r in report.results)
+    n = len(report.results) - n_na
+    out.append(f"{verdict}: {n - n_fail}/{n} checks passed"
+               + (f" ({n_na} not applicable, listed n/a)" if n_na else "")
+               + f"; {report.n_solves} mesh solves in {report.elapsed:.1f} s")
     return "\n".join(out)

@@ -74,6 +74,9 @@ class CheckResult:
     value: float
     limit: float
     message: str
+    #: False where nothing was measured (no mesh, no window, no pose of the kind, the reference
+    #: against itself): shown as ``n/a``, never as a PASS
+    measured: bool = True
 
 
 @dataclass(frozen=True)
@@ -281,6 +284,10 @@ class Suite:
 
     def accuracy(self, sample: list[RefPoint]) -> list[CheckResult]:
         t = self.tol
+        if self.method == "reference":
+            return [CheckResult("accuracy vs reference", "all", True, math.nan, 1.0,
+                                "the reference method is the reference: nothing to compare",
+                                measured=False)]
         out = []
         for region in REGIONS[:3]:
             pts = [p for p in sample if p.region == region and ok(self.mesh(p.i, p.j))]
@@ -452,8 +459,8 @@ class Suite:
     def window(self, survey: list[RefPoint]) -> CheckResult:
         t, st = self.tol, self.scene.settings
         if not st.window or self.method == "reference":
-            return CheckResult("mesh window", "all", True, 0.0, 1.0,
-                               "no window (whole mesh or reference method)")
+            return CheckResult("mesh window", "all", True, math.nan, 1.0,
+                               "no window (whole mesh or reference method)", measured=False)
         flange = sorted((p for p in survey if p.region in ("flange", "flange_root")),
                         key=lambda p: (-abs(self.yaws[p.j]), -abs(self.ys[p.i])))
         pos = [p for p in flange if self.ys[p.i] >= 0]
@@ -462,6 +469,10 @@ class Suite:
         chosen = [p for pair in zip(pos, neg, strict=False) for p in pair]
         chosen += pos[len(neg):] + neg[len(pos):]
         chosen = chosen[: self.opts.window_poses]
+        if not chosen:
+            return CheckResult("mesh window", "flange", True, math.nan, 1.0,
+                               "no flange pose in the surveyed grid: the window was not "
+                               "compared with the full mesh", measured=False)
         worst, bad = (0.0, ""), []
         for p in chosen:
             w, f = self.mesh(p.i, p.j), self.mesh(p.i, p.j, full=True)
@@ -492,8 +503,8 @@ class Suite:
         wheel's rolling radius of curvature along it; ``delta`` the peak interpenetration at the
         allowed indentation (C / rate of the method: 2 C for the load centre's mean)."""
         if self.method == "reference":
-            return CheckResult("mesh spacing", "all", True, math.inf, self.tol.min_nodes,
-                               "reference method: no mesh")
+            return CheckResult("mesh spacing", "all", True, math.nan, self.tol.min_nodes,
+                               "reference method: no mesh", measured=False)
         eq, sd = self.scene.equilibrium, self.scene.side("left")  # same spacings both sides
         wm, rm = sd.wheel_mesh, sd.rail_mesh
         delta = eq.allowed_indentation / get_method(self.method).indentation_rate

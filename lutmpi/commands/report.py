@@ -79,13 +79,25 @@ def error_target(text: str) -> tuple[str, float]:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from lutmpi.errors import ConfigError
     from lutmpi.outpath import check_output_dir
 
     if args.error_target and args.table_error is None:
-        from lutmpi.errors import ConfigError
-
         raise ConfigError("takes effect only with --table-error (the table-error section)",
                           key="--error-target")
+    if Path(args.outdir).is_dir():   # a sweep folder: the options of one table do not apply
+        given = [name for name, value in (("--method", args.method), ("--at-y-mm", args.at_y_mm),
+                                          ("--en15302-case", args.en15302_case),
+                                          ("--table-error", args.table_error)) if value is not None]
+        if given:
+            raise ConfigError(f"{args.outdir} is a sweep folder; {', '.join(given)} appl"
+                              f"{'ies' if len(given) == 1 else 'y'} to one table (T.h5): give "
+                              "a member's table, e.g. "
+                              f"{Path(args.outdir) / '<member>.h5'}", key=given[0])
+    elif Path(args.outdir).is_file() and (args.reference != "reference" or args.wear is not None):
+        raise ConfigError(f"{args.outdir}: --reference and --wear apply to a sweep folder, not "
+                          "to one table", key="--reference" if args.reference != "reference"
+                          else "--wear")
     check_output_dir(args.output, "report folder")
     if args.table_error is not None:
         return _table_error(args)

@@ -357,7 +357,7 @@ def _sweep_indices(data: SweepData, report: Path) -> list[str]:
     key, xs, labels = _sweep_axis(data, ids)
     with open(report / "indices.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["member", key] + list(rows[0]))
+        w.writerow(["member", key if key != "member" else "member_number"] + list(rows[0]))
         for i, x, r in zip(ids, xs, rows, strict=True):
             w.writerow([i, x] + [f"{v:.6g}" for v in r.values()])
     groups = {"tan_gamma_e": ("equivalent conicity tan γe [-]", "tan γe (EN 15302 Annex B)"),

@@ -135,3 +135,37 @@ def test_plot_options_a_quantity_has_no_use_for_are_errors(tmp_path, capsys):
         assert key in capsys.readouterr().err
     assert main(["plot", str(t), "wheel_point", "-o", str(tmp_path / "w.png"), "--side",
                  "right", "--slot", "1", "--component", "0"]) == 0
+
+
+def test_report_options_of_one_table_are_refused_on_a_sweep_folder(tmp_path, capsys):
+    folder = tmp_path / "sweep_out"
+    folder.mkdir()
+    for extra, key in ((["--method", "load_centre"], "[--method]"),
+                       (["--at-y-mm", "3"], "[--at-y-mm]"),
+                       (["--table-error"], "[--table-error]")):
+        capsys.readouterr()
+        assert main(["report", str(folder), "-o", str(tmp_path / "r"), *extra]) == 1
+        err = capsys.readouterr().err
+        assert key in err and "sweep folder" in err and "Traceback" not in err
+    assert not (tmp_path / "r").exists()
+
+
+def test_the_jobs_script_refuses_a_rank_count_of_zero(tmp_path):
+    run = subprocess.run(["bash", str(REPO_ROOT / "jobs" / "build_table.sh"), "c.toml",
+                          str(tmp_path / "t.h5")], env=dict(os.environ, NP="0"),
+                         capture_output=True, text=True, timeout=60, check=False)
+    assert run.returncode == 2 and "NP must be a number of ranks >= 1, got '0'" in run.stderr
+
+
+def test_check_says_n_a_where_it_measured_nothing(tmp_path, capsys):
+    cfg = tmp_path / "one.toml"
+    cfg.write_text('[wheel]\ngenerator = "S1002"\n[rail]\ngenerator = "UIC60"\n'
+                   '[grid]\ny_mm = [-4.0, 4.0, 5]\nyaw_rad = [0.0, 0.0, 1]\n'
+                   '[contact]\nmethod = "reference"\n[output]\nmethods = ["reference"]\n')
+    capsys.readouterr()
+    main(["check", str(cfg), "--fast", "--method", "reference"])
+    out = capsys.readouterr().out
+    rows = {ln.split("  ")[0]: ln for ln in out.splitlines()}
+    for name in ("accuracy vs reference", "mesh spacing", "mesh window"):
+        assert " n/a " in rows[name] + " ", (name, out)
+    assert "not applicable" in out and "PASS: 10/10" not in out
