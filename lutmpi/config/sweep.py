@@ -241,8 +241,19 @@ def _id_value(key: str, value: Any) -> str:
     return re.sub(r"[^A-Za-z0-9._+-]", "_", text)
 
 
+def _abbrev(key: str) -> str:
+    """The short name of a swept key in member IDs; a side's own key names its side
+    (``wear.wheel.left.flange_thinning_mm`` -> ``ftL``, ``wheel.right.profile`` -> ``wR``), so
+    the left and right members of one sweep never share a name."""
+    parts = key.split(".")
+    sides = [p for p in parts if p in ("left", "right")]
+    plain = ".".join(p for p in parts if p not in ("left", "right"))
+    short = _ABBREV.get(plain, plain.rsplit(".", 1)[-1])
+    return short + "".join(side[0].upper() for side in sides)
+
+
 def _member_id(params: dict[str, Any]) -> str:
-    parts = [f"{_ABBREV.get(k, k.rsplit('.', 1)[-1])}-{_id_value(k, v)}" for k, v in params.items()]
+    parts = [f"{_abbrev(k)}-{_id_value(k, v)}" for k, v in params.items()]
     text = "__".join(parts).lstrip(".")
     if len(text) > MAX_ID_LENGTH:
         text = text[: MAX_ID_LENGTH - 9] + "~" + _digest(params)

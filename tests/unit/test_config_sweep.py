@@ -142,6 +142,19 @@ def test_several_blocks_concatenate():
     assert [s.id for s in expand_sweep(doc)] == ["m-load_centre", "ft-1", "ft-2"]
 
 
+def test_a_sides_own_key_names_its_side_and_ids_do_not_depend_on_other_blocks():
+    left = {"product": {"wear.wheel.left.flange_thinning_mm": [2.0]}}
+    right = {"product": {"wear.wheel.right.flange_thinning_mm": [2.0]}}
+    both = {"product": {"wear.wheel.flange_thinning_mm": [2.0]}}
+    assert [s.id for s in expand_sweep({"base": BASE, "sweep": [left]})] == ["ftL-2"]
+    assert [s.id for s in expand_sweep({"base": BASE, "sweep": [both, left, right]})] == \
+        ["ft-2", "ftL-2", "ftR-2"]
+    pair = {"zip": {"wheel.left.nominal_radius_mm": [455.0],
+                    "wheel.right.nominal_radius_mm": [460.0]}}
+    assert [s.id for s in expand_sweep({"base": BASE, "sweep": [pair]})] == \
+        ["nominal_radius_mmL-455__nominal_radius_mmR-460"]
+
+
 # ----------------------------------------------------------------------------------- bad sweeps
 
 @pytest.mark.parametrize(("doc", "key", "text"), [
