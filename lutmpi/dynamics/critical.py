@@ -31,15 +31,117 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import asdict, dataclass
+from types import SimpleNamespace
 
 import numpy as np
 from scipy.optimize import brentq, root
 
-from lutmpi.dynamics.contact_provider import ContactProvider
+from lutmpi.dynamics.contact_provider import (
+    GEOMETRY_OK,
+    GEOMETRY_STATUS,
+    ContactGeometry,
+    ContactProvider,
+)
 from lutmpi.dynamics.simulate import classify, simulate
 from lutmpi.dynamics.wheelset import WheelsetParams, contact_forces, kalker_fast, wheelset_rhs
+from lutmpi.errors import TableError
 
 log = logging.getLogger(__name__)
+
+#: yaw step of the yaw gravitational stiffness in :func:`linear_parameters`, rad
+LINEAR_YAW_STEP = 1e-3
+#: yaw step of the Jacobian's yaw column in :func:`rhs_jacobian`, rad
+JACOBIAN_YAW_STEP = 1e-5
+#: output step of the bisection's runs, s
+NONLINEAR_DT_OUT = 0.01
+
+
+def _table_range(provider: object) -> str:
+    """`` (table: y in [..] mm, yaw in [..] rad)`` for a provider with ``bounds``, else ``""``."""
+    bounds = getattr(provider, "bounds", None)
+    if bounds is None:
+        return ""
+    y0, y1, a0, a1 = bounds
+    return (f" (table: y in [{y0 * 1e3:.4f}, {y1 * 1e3:.4f}] mm, yaw in [{a0:.4f}, {a1:.4f}] "
+            "rad)")
+
+
+def check_linear_range(provider: ContactProvider, amplitude: float, centre: float = 0.0,
+                       h_yaw: float = LINEAR_YAW_STEP, name: str = "amplitude") -> None:
+    """Raise unless every pose the linear analyses evaluate lies inside the provider's table.
+
+    :func:`linear_parameters` and :func:`rhs_jacobian` read the geometry at lateral shifts up to
+    ``centre ± amplitude`` and at yaws ``± h_yaw``; a table answers a pose beyond its edge with
+    the edge's geometry (status ``OUT_OF_TABLE``), which would make a number from geometry that
+    is not there. Providers without ``bounds`` (on-line, coned) pass.
+
+    Parameters
+    ----------
+    provider : ContactProvider
+    amplitude : float
+        Linearisation amplitude, m (> 0).
+    centre : float
+        Pure-rolling offset about which the model is linearised, m.
+    h_yaw : float
+        Largest yaw step of the analyses, rad.
+    name : str
+        How the amplitude is named in the message (a command's option).
+
+    Raises
+    ------
+    TableError
+        The table is 1-D in yaw (no yaw derivatives: the yaw stiffness and the Jacobian's yaw
+        terms need a yaw range), or ``centre ± amplitude`` or ``± h_yaw`` lies outside it.
+    """
+    bounds = getattr(provider, "bounds", None)
+    if bounds is None:
+        return
+    y0, y1, a0, a1 = bounds
+    if not a1 > a0:
+        raise TableError(
+            "the linear analysis needs the yaw derivatives of the contact geometry (the yaw "
+            f"gravitational stiffness, the yaw terms of the Jacobian) at yaw ±{h_yaw:g} rad; the "
+            f"table is 1-D (yaw in [{a0:.4f}, {a1:.4f}] rad): build it with a yaw range, e.g. "
+            "[grid] yaw_rad = [-0.01, 0.01, 5]")
+    if -h_yaw < a0 or h_yaw > a1:
+        raise TableError(f"the linear analysis reads the contact geometry at yaw ±{h_yaw:g} rad, "
+                         f"outside the table's yaw range [{a0:.4f}, {a1:.4f}] rad")
+    lo, hi = centre - amplitude, centre + amplitude
+    if lo < y0 or hi > y1:
+        most = min(centre - y0, y1 - centre)
+        raise TableError(
+            f"{name} {amplitude:g} m ({amplitude * 1e3:g} mm): the linearisation about "
+            f"y = {centre * 1e3:.4f} mm reads the contact geometry over y in "
+            f"[{lo * 1e3:.4f}, {hi * 1e3:.4f}] mm, beyond "
+            f"the table's y range [{y0 * 1e3:.4f}, {y1 * 1e3:.4f}] mm: give an amplitude of at "
+            f"most {max(most, 0.0) * 1e3:.4f} mm, or build a table that spans it")
+
+
+def _why(g: ContactGeometry) -> str:
+    """Why a geometry is not the pose's: its status, or no result of the pose solve."""
+    if g.status != GEOMETRY_OK:
+        return GEOMETRY_STATUS.get(g.status, f"status {g.status}")
+    return "no contact geometry (the pose solve failed)"
+
+
+class _Checked:
+    """A provider whose every answer must be real geometry: a pose outside the table or on a
+    failed point (``status``), or a pose solve without a result (NaN ``z_g``), raises
+    :class:`TableError` naming the pose and what needed it, instead of a number made from the
+    edge's or the last good point's geometry."""
+
+    def __init__(self, provider: ContactProvider, what: str) -> None:
+        self.provider, self.what = provider, what
+
+    def evaluate(self, y: float, yaw: float) -> ContactGeometry:
+        g = self.provider.evaluate(y, yaw)
+        if g.status != GEOMETRY_OK or not math.isfinite(g.z_g):
+            raise TableError(f"{self.what} needs the contact geometry at y = {y * 1e3:.4f} mm, "
+                             f"yaw = {yaw:.6f} rad: {_why(g)}{_table_range(self.provider)}")
+        return g
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self.provider, name)
 
 
 @dataclass(frozen=True)
@@ -85,9 +187,13 @@ def rolling_offset(provider: ContactProvider, reach: float = 5e-3) -> float:
 
     0 for a wheelset whose two wheels have the same radius at the centred pose; a wheelset with
     two different wheels (diameters or wear) runs offset to where Δr(y_e) = 0, and its linear
-    model is about that pose. The root nearest to 0 within ``reach``; 0 when there is none."""
+    model is about that pose. The root nearest to 0 within ``reach``; 0 when there is none. On a
+    table the scan on each side ends at the table's edge or a failed point (the geometry there is
+    not the pose's), and the centred pose itself must be real geometry (:class:`TableError`)."""
+    checked = _Checked(provider, "the rolling offset (the pose where Δr = 0)")
+
     def dr(y: float) -> float:
-        g = provider.evaluate(y, 0.0)
+        g = checked.evaluate(y, 0.0)
         return float(g.rolling_radius[0, 0] - g.rolling_radius[1, 0])
 
     d0 = dr(0.0)
@@ -95,10 +201,20 @@ def rolling_offset(provider: ContactProvider, reach: float = 5e-3) -> float:
         return 0.0
     step = 1e-4
     prev = {1.0: (0.0, d0), -1.0: (0.0, d0)}
+    ends: list[str] = []                    # where the scan met the table's edge or a failed point
     for k in range(1, int(reach / step) + 1):
         for sign in (1.0, -1.0):             # outward on both sides: the nearest root first
+            if sign not in prev:
+                continue
             y = sign * k * step
-            v = dr(y)
+            g = provider.evaluate(y, 0.0)
+            if g.status != GEOMETRY_OK or not math.isfinite(g.z_g):
+                # the scan on this side ends here: beyond, the table answers with the edge's
+                # or the last good point's geometry, and a root there would be made up
+                ends.append(f"y = {y * 1e3:.1f} mm ({_why(g)})")
+                del prev[sign]
+                continue
+            v = float(g.rolling_radius[0, 0] - g.rolling_radius[1, 0])
             y0, v0 = prev[sign]
             if v == 0.0 or (v > 0.0) != (v0 > 0.0):
                 ye = float(brentq(dr, min(y0, y), max(y0, y), xtol=1e-9))
@@ -108,13 +224,16 @@ def rolling_offset(provider: ContactProvider, reach: float = 5e-3) -> float:
                                 "contact); the linear models there are only indicative", ye * 1e3)
                 return ye
             prev[sign] = (y, v)
-    log.warning("no pure-rolling offset within %.1f mm (Δr(0) = %.3f mm): linear model about the "
-                "centred pose", reach * 1e3, d0 * 1e3)
+        if not prev:
+            break
+    log.warning("no pure-rolling offset within %.1f mm%s (Δr(0) = %.3f mm): linear model about "
+                "the centred pose", reach * 1e3,
+                f" (the scan stopped at {', '.join(ends)})" if ends else "", d0 * 1e3)
     return 0.0
 
 
 def linear_parameters(provider: ContactProvider, params: WheelsetParams,
-                      amplitude: float = 1e-3, h_yaw: float = 1e-3,
+                      amplitude: float = 1e-3, h_yaw: float = LINEAR_YAW_STEP,
                       centre: float | None = None) -> LinearParameters:
     """Coefficients of the linear model from a contact provider (table, on-line, coned), about
     the pure-rolling pose ``centre`` (m; None: :func:`rolling_offset`, 0 for a symmetric
@@ -128,8 +247,17 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
         Amplitude A of the harmonic linearisation of Δr(y) and the gravitational force, m.
     h_yaw : float
         Yaw step for the yaw gravitational stiffness, rad.
+
+    Raises
+    ------
+    TableError
+        A pose the model needs lies outside the table or on a failed point
+        (:func:`check_linear_range`).
     """
+    _positive_amplitude(amplitude)
     yc = rolling_offset(provider) if centre is None else float(centre)
+    check_linear_range(provider, amplitude, yc, h_yaw)
+    provider = _Checked(provider, f"the linear model (amplitude {amplitude * 1e3:g} mm)")
     g0 = provider.evaluate(yc, 0.0)
     r0 = float(np.mean(g0.rolling_radius[:, 0]))
     b = 0.5 * float(g0.wheel_point[0, 0, 1] - g0.wheel_point[1, 0, 1])
@@ -181,6 +309,11 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
                             f11=G * c2 * C11, f22=G * c2 * C22, f23=G * c2**1.5 * C23,
                             f33=G * c2**2 * C33, load=load,
                             delta0=float(g0.contact_angle[0, 0]), k_spin=k_spin)
+
+
+def _positive_amplitude(amplitude: float) -> None:
+    if not (math.isfinite(amplitude) and amplitude > 0.0):
+        raise ValueError(f"amplitude: expected a finite number > 0 (m), got {amplitude!r}")
 
 
 def state_matrix(lp: LinearParameters, params: WheelsetParams, speed: float) -> np.ndarray:
@@ -255,18 +388,31 @@ def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float
     state: the spin perturbation at its equilibrium (the rolling radius differs from the
     nominal r0) and, for a wheelset with two different wheels, the lateral offset where Δr
     vanishes (``centre``, m; None: :func:`rolling_offset`, 0 for a symmetric wheelset).
-    """
-    def f(x: np.ndarray) -> np.ndarray:
-        return wheelset_rhs(0.0, x, speed, params, provider)
 
+    Raises
+    ------
+    TableError
+        A pose the differences need lies outside the table or on a failed point
+        (:func:`check_linear_range`).
+    """
+    _positive_amplitude(amplitude)
     yc = rolling_offset(provider) if centre is None else float(centre)
+    check_linear_range(provider, amplitude, yc, JACOBIAN_YAW_STEP)
+    checked = _Checked(provider, f"the Jacobian (amplitude {amplitude * 1e3:g} mm)")
+
+    def f(x: np.ndarray) -> np.ndarray:
+        return wheelset_rhs(0.0, x, speed, params, checked)
+
     spin_eq = brentq(lambda s: f(np.array([yc, 0.0, 0.0, 0.0, s]))[4], -5.0, 5.0, xtol=1e-12)
     x0 = np.array([yc, 0.0, 0.0, 0.0, spin_eq])
     if yc != 0.0:   # two different wheels: the steady state also has a small yaw (the lateral
         # gravitational force at the offset is balanced by creep); a symmetric one is centred
         scale = np.array([1e-3, 1e-3, 1.0])
-        sol = root(lambda q: f(np.array([*(q[:2] * scale[:2]), 0.0, 0.0, q[2]]))[2:],
-                   np.array([yc / scale[0], 0.0, spin_eq]), method="hybr")
+        try:
+            sol = root(lambda q: f(np.array([*(q[:2] * scale[:2]), 0.0, 0.0, q[2]]))[2:],
+                       np.array([yc / scale[0], 0.0, spin_eq]), method="hybr")
+        except TableError as exc:          # the search wandered off the table: no steady state
+            sol = SimpleNamespace(success=False, message=str(exc))
         if sol.success:
             q = sol.x * scale
             x0 = np.array([q[0], q[1], 0.0, 0.0, q[2]])
@@ -274,7 +420,7 @@ def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float
             _NO_STEADY.add(yc)
             log.warning("no steady rolling state near y = %.3f mm (%s): Jacobian about the "
                         "pure-rolling offset", yc * 1e3, sol.message)
-    steps = np.array([amplitude, 1e-5, 1e-4, 1e-5, 1e-3])
+    steps = np.array([amplitude, JACOBIAN_YAW_STEP, 1e-4, 1e-5, 1e-3])
     J = np.zeros((5, 5))
     for k, h in enumerate(steps):
         e = np.zeros(5)
@@ -316,6 +462,7 @@ class NonlinearCritical:
     hunting_above: float
     runs: tuple[tuple[float, str, float], ...]   # (V, kind, growth rate) of every run
     converged: bool
+    message: str = ""                            # why not converged ("" when converged)
 
 
 def nonlinear_critical_speed(provider: ContactProvider, params: WheelsetParams, v_lo: float,
@@ -330,27 +477,58 @@ def nonlinear_critical_speed(provider: ContactProvider, params: WheelsetParams, 
     error damps or excites the motion at that level (with solve_ivp's defaults a 4 um
     oscillation came out 1e-3 1/s more damped). The paper's 0.1 m/s gives a ~0.35 mm
     oscillation, still inside the tread region where the geometry is nearly linear.
+
+    A run that stops (leaves the table, reaches a failed point, the integrator fails) has no
+    verdict (kind ``"stopped"``): the bisection ends there, not converged, and ``message`` says
+    why, as it does for a first bracket that is not [stable, hunting] and an undetermined run.
+
+    Raises
+    ------
+    ValueError
+        ``v_lo``/``v_hi`` not finite with 0 < v_lo < v_hi, ``rel_tol`` not in (0, 1), ``vy0``
+        zero or not finite (nothing would start the oscillation), and what
+        :func:`lutmpi.dynamics.simulate.check_run_inputs` refuses.
     """
+    if not (math.isfinite(v_lo) and math.isfinite(v_hi) and 0.0 < v_lo < v_hi):
+        raise ValueError(f"bracket: expected finite speeds 0 < v_lo < v_hi, got {v_lo!r}, "
+                         f"{v_hi!r}")
+    if not (math.isfinite(rel_tol) and 0.0 < rel_tol < 1.0):
+        raise ValueError(f"rel_tol: expected a number in (0, 1), got {rel_tol!r}")
+    if not (math.isfinite(vy0) and vy0 != 0.0):
+        raise ValueError(f"vy0: expected a finite, non-zero lateral velocity (m/s), got {vy0!r}")
     runs: list[tuple[float, str, float]] = []
-    atol = (vy0 / 0.1) * np.array([1e-11, 1e-11, 1e-10, 1e-10, 1e-8])
+    atol = (abs(vy0) / 0.1) * np.array([1e-11, 1e-11, 1e-10, 1e-10, 1e-8])
+    stops: list[str] = []
 
     def kind(v: float) -> str:
         r = simulate(provider, params, v, duration, vy0=vy0, events=False, rtol=rtol,
-                     atol=atol, dt_out=0.01, **sim_kw)
+                     atol=atol, dt_out=NONLINEAR_DT_OUT, **sim_kw)
+        if not r.success:         # a truncated record has no verdict of its own
+            runs.append((v, "stopped", float("nan")))
+            stops.append(f"the run at {v:.4g} m/s stopped: {r.message}")
+            log.info("V = %.4g m/s: stopped: %s", v, r.message)
+            return "stopped"
         s = r.summary if r.summary is not None else classify(r.t, r.y)   # the run's own verdict
         runs.append((v, s.kind, s.growth_rate))
         log.info("V = %.4g m/s: %s", v, s.line())
         return s.kind
 
+    def failed(lo: float, hi: float, why: str) -> NonlinearCritical:
+        return NonlinearCritical(float("nan"), lo, hi, tuple(runs), False,
+                                 "; ".join([why, *stops]))
+
     lo_kind, hi_kind = kind(v_lo), kind(v_hi)
     if lo_kind != "stable" or hi_kind != "hunting":
-        return NonlinearCritical(float("nan"), v_lo, v_hi, tuple(runs), False)
+        return failed(v_lo, v_hi, f"the bracket needs a stable run at {v_lo:.4g} m/s and a "
+                                  f"hunting one at {v_hi:.4g} m/s; got {lo_kind} and {hi_kind}"
+                                  + _too_short((lo_kind, hi_kind), duration))
     lo, hi = v_lo, v_hi
     while (hi - lo) > rel_tol * hi:
         mid = 0.5 * (lo + hi)
         verdict = kind(mid)
-        if verdict == "undetermined":          # too short to tell: stop with the bracket so far
-            return NonlinearCritical(float("nan"), lo, hi, tuple(runs), False)
+        if verdict in ("undetermined", "stopped"):   # no verdict: stop with the bracket so far
+            return failed(lo, hi, f"the run at {mid:.4g} m/s is {verdict}"
+                                  + _too_short((verdict,), duration))
         if verdict == "stable":
             lo = mid
         else:
@@ -358,6 +536,15 @@ def nonlinear_critical_speed(provider: ContactProvider, params: WheelsetParams, 
     return NonlinearCritical(0.5 * (lo + hi), lo, hi, tuple(runs), True)
 
 
-__all__ = ["LinearParameters", "linear_parameters", "state_matrix", "max_real_part",
+def _too_short(kinds: tuple[str, ...], duration: float) -> str:
+    """A hint where a run was undetermined (too few peaks in ``duration`` s)."""
+    if "undetermined" in kinds:
+        return (f" (undetermined: too few oscillation peaks in {duration:g} s to tell stable "
+                "from hunting; run longer)")
+    return ""
+
+
+__all__ = ["LinearParameters", "linear_parameters", "check_linear_range", "LINEAR_YAW_STEP",
+           "JACOBIAN_YAW_STEP", "NONLINEAR_DT_OUT", "state_matrix", "max_real_part",
            "LinearCritical", "linear_critical_speed", "NonlinearCritical",
            "nonlinear_critical_speed", "rhs_jacobian", "jacobian_critical_speed"]

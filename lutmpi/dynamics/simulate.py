@@ -154,6 +154,52 @@ def _events(memo: _Memo, speed: float, params: WheelsetParams, threshold: float,
 
 EVENT_NAMES = ("flange", "double_contact", "nadal")
 
+#: solve_ivp's method names (``method=`` of :func:`simulate`)
+INTEGRATORS = ("LSODA", "BDF", "Radau", "RK45", "RK23", "DOP853")
+#: most output samples one run keeps: the histories take ~0.4 kB per sample (2e6 samples: ~0.8
+#: GB, 10 000 s at the default 5 ms output step)
+MAX_OUTPUT_SAMPLES = 2_000_000
+
+
+def output_samples(duration: float, dt_out: float) -> int:
+    """Number of output samples of a run of ``duration`` s sampled every ``dt_out`` s."""
+    return int(math.floor(duration / dt_out + 0.5)) + 1
+
+
+def check_run_inputs(provider: ContactProvider, duration: float, dt_out: float,
+                     method: str) -> None:
+    """Raise before any work where a run cannot be made (called by :func:`simulate`).
+
+    Raises
+    ------
+    ValueError
+        ``duration`` or ``dt_out`` not a finite number > 0, more output samples than
+        :data:`MAX_OUTPUT_SAMPLES`, an integrator not in :data:`INTEGRATORS`.
+    TableError
+        A table provider whose y or yaw axis holds one value (a 1-D table): the wheelset moves
+        and yaws from its first step, so the run would leave the table at once.
+    """
+    from lutmpi.errors import TableError
+
+    if method not in INTEGRATORS:
+        raise ValueError(f"integrator: expected one of {', '.join(INTEGRATORS)}, got {method!r}")
+    for name, value in (("duration", duration), ("dt_out", dt_out)):
+        if not (math.isfinite(value) and value > 0.0):
+            raise ValueError(f"{name}: expected a finite number > 0 (s), got {value!r}")
+    if (n := output_samples(duration, dt_out)) > MAX_OUTPUT_SAMPLES:
+        raise ValueError(f"duration: {duration:g} s at an output step of {dt_out:g} s is {n:.3g} "
+                         f"samples, more than the {MAX_OUTPUT_SAMPLES} a run keeps in memory "
+                         f"(at most {(MAX_OUTPUT_SAMPLES - 1) * dt_out:g} s)")
+    bounds = getattr(provider, "bounds", None)
+    if bounds is not None:
+        y0, y1, a0, a1 = bounds
+        if not (y1 > y0 and a1 > a0):
+            raise TableError(
+                f"the wheelset dynamics needs a table with a y range and a yaw range (the "
+                f"wheelset shifts and yaws from its first step); the table is 1-D: y in "
+                f"[{y0 * 1e3:.4f}, {y1 * 1e3:.4f}] mm, yaw in [{a0:.4f}, {a1:.4f}] rad. Build "
+                f"it with a range on both axes, e.g. [grid] yaw_rad = [-0.01, 0.01, 5]")
+
 
 #: :attr:`SimulationResult.status` values beyond solve_ivp's (0 done, -1 integration failed)
 LEFT_TABLE, ON_FAILED_POINT = 2, 3
@@ -178,7 +224,7 @@ def simulate(provider: ContactProvider, params: WheelsetParams, speed: float, du
     y0, yaw0, vy0, vyaw0 : float
         Initial state (m, rad, m/s, rad/s); spin starts at pure rolling, V/r0.
     method : str
-        solve_ivp method name.
+        solve_ivp method name, one of :data:`INTEGRATORS`.
     rtol, atol, max_step : float
         Integrator tolerances; ``max_step`` (s) keeps the step below a hunting period.
     dt_out : float
@@ -195,7 +241,13 @@ def simulate(provider: ContactProvider, params: WheelsetParams, speed: float, du
         ``status`` 0 (done), -1 (solve_ivp failed), :data:`LEFT_TABLE` or
         :data:`ON_FAILED_POINT` (stopped; ``message`` names the time and pose). A failed run is
         data.
+
+    Raises
+    ------
+    ValueError, TableError
+        What :func:`check_run_inputs` refuses (no run could be made).
     """
+    check_run_inputs(provider, duration, dt_out, method)
     memo = _Memo(provider)
     calls0 = getattr(provider, "calls", 0)
     nadal = nadal_limit(provider.flange_angle, params.mu)
@@ -461,4 +513,5 @@ def _post(sol: Any, memo: _Memo, speed: float, params: WheelsetParams, wall: flo
 
 
 __all__ = ["simulate", "SimulationResult", "Summary", "classify", "nadal_limit", "STATE_NAMES",
-           "EVENT_NAMES", "LEFT_TABLE", "ON_FAILED_POINT", "GEOMETRY_STATUS"]
+           "EVENT_NAMES", "LEFT_TABLE", "ON_FAILED_POINT", "GEOMETRY_STATUS", "INTEGRATORS",
+           "MAX_OUTPUT_SAMPLES", "output_samples", "check_run_inputs"]
