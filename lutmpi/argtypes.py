@@ -32,6 +32,14 @@ def positive(text: str) -> float:
     return v
 
 
+def nonnegative(text: str) -> float:
+    """A finite number >= 0."""
+    v = _number(text)
+    if not v >= 0.0:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}")
+    return v
+
+
 def within(bound: float) -> Callable[[str], float]:
     """A finite number of magnitude at most ``bound``."""
     def check(text: str) -> float:

@@ -13,7 +13,7 @@ NO_POINT_CONVERGED = 3
 
 
 def register(subparsers: Any) -> None:
-    from lutmpi.argtypes import positive
+    from lutmpi.argtypes import nonnegative
 
     p = subparsers.add_parser(
         "build", help="build a lookup table (run under mpirun for several ranks)",
@@ -31,7 +31,7 @@ def register(subparsers: Any) -> None:
                         "hash; the profiles and config may have moved)")
     p.add_argument("--method", action="append", dest="methods", metavar="NAME",
                    help="contact method to build (repeatable); default: [output] methods")
-    p.add_argument("--checkpoint-interval", type=positive, default=10.0, metavar="SECONDS",
+    p.add_argument("--checkpoint-interval", type=nonnegative, default=10.0, metavar="SECONDS",
                    help="longest time a computed point waits for fsync in OUT.journal/ (default "
                         "10; every point is written there the moment it is computed)")
     # Test/debug hooks: a solver 'module:function' (optionally with make_scene(config) in the same

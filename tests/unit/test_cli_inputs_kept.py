@@ -134,7 +134,7 @@ def test_inspect_lists_the_failed_points(hook_table, capsys):
     assert "-9.000 mm  yaw -0.12000 rad  max_iterations" in out
 
 
-@pytest.mark.parametrize("value", ["nan", "-5", "inf", "0"])
+@pytest.mark.parametrize("value", ["nan", "-5", "inf"])   # 0: every point synced at once
 def test_a_checkpoint_interval_no_build_can_use_is_a_usage_error(tmp_path, value, capsys):
     cfg = write_config(tmp_path, ny=3, nyaw=3)
     with pytest.raises(SystemExit) as exc:
