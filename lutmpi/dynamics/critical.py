@@ -124,6 +124,17 @@ def _why(g: ContactGeometry) -> str:
     return "no contact geometry (the pose solve failed)"
 
 
+def _linearisation(provider: ContactProvider, amplitude: float, centre: float | None,
+                   h_yaw: float, what: str) -> tuple[float, _Checked]:
+    """The common start of the linear analyses: the amplitude checked, the centre (the
+    rolling offset unless given, m), every pose they read checked to lie in the table
+    (:func:`check_linear_range`), and the provider wrapped so each lookup is checked too."""
+    _positive_amplitude(amplitude)
+    yc = rolling_offset(provider) if centre is None else float(centre)
+    check_linear_range(provider, amplitude, yc, h_yaw)
+    return yc, _Checked(provider, f"{what} (amplitude {amplitude * 1e3:g} mm)")
+
+
 class _Checked:
     """A provider whose every answer must be real geometry: a pose outside the table or on a
     failed point (``status``), or a pose solve without a result (NaN ``z_g``), raises
@@ -254,10 +265,7 @@ def linear_parameters(provider: ContactProvider, params: WheelsetParams,
         A pose the model needs lies outside the table or on a failed point
         (:func:`check_linear_range`).
     """
-    _positive_amplitude(amplitude)
-    yc = rolling_offset(provider) if centre is None else float(centre)
-    check_linear_range(provider, amplitude, yc, h_yaw)
-    provider = _Checked(provider, f"the linear model (amplitude {amplitude * 1e3:g} mm)")
+    yc, provider = _linearisation(provider, amplitude, centre, h_yaw, "the linear model")
     g0 = provider.evaluate(yc, 0.0)
     r0 = float(np.mean(g0.rolling_radius[:, 0]))
     b = 0.5 * float(g0.wheel_point[0, 0, 1] - g0.wheel_point[1, 0, 1])
@@ -395,10 +403,7 @@ def rhs_jacobian(provider: ContactProvider, params: WheelsetParams, speed: float
         A pose the differences need lies outside the table or on a failed point
         (:func:`check_linear_range`).
     """
-    _positive_amplitude(amplitude)
-    yc = rolling_offset(provider) if centre is None else float(centre)
-    check_linear_range(provider, amplitude, yc, JACOBIAN_YAW_STEP)
-    checked = _Checked(provider, f"the Jacobian (amplitude {amplitude * 1e3:g} mm)")
+    yc, checked = _linearisation(provider, amplitude, centre, JACOBIAN_YAW_STEP, "the Jacobian")
 
     def f(x: np.ndarray) -> np.ndarray:
         return wheelset_rhs(0.0, x, speed, params, checked)

@@ -82,6 +82,7 @@ class Table:
     meta: dict[str, dict[str, dict[str, Any]]]
     mask_failed: bool = True
     _masked: dict[str, dict[str, np.ndarray]] = field(default_factory=dict, repr=False)
+    _built: Any = field(default=None, repr=False)   # built_config's checked result
     jumps: dict[str, dict[str, Any]] = field(default_factory=dict, repr=False)
     _interp: dict[tuple[Any, ...], _interp.Interpolator] = field(default_factory=dict,
                                                                  repr=False)
@@ -192,6 +193,8 @@ class Table:
             profile is not the table's any more, and what is made from it would describe
             another pair.
         """
+        if self._built is not None:   # checked once per opened table (report: several uses)
+            return self._built
         import tomllib
 
         from lutmpi.config.load import config_from_dict
@@ -214,6 +217,7 @@ class Table:
             raise TableError(f"{self.path} was built from profile files that have changed since "
                              "(what is made from them now would not be the table's pair): "
                              + "; ".join(changed) + ". Restore the files, or rebuild the table")
+        self._built = cfg
         return cfg
 
     def _method(self, method: str | None) -> str:
