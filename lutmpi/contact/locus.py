@@ -18,9 +18,10 @@ condition ``(R n)_x = 0`` reads ``a sin phi - c cos phi = b r'``, i.e.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from functools import partial
+from functools import cached_property, partial
 
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
@@ -191,10 +192,11 @@ class LocusSide:
                                   for s in (wheel.s_min, wheel.s_max)]),
                    zmax=float(np.max(rail.height_table[2])))
 
-    @property
+    @cached_property
     def local_args(self) -> tuple:
         """This side's arguments of the compiled local solve and heights
-        (:mod:`lutmpi.contact.rigid_kernels`)."""
+        (:mod:`lutmpi.contact.rigid_kernels`; made once: the finish of every pose reads
+        them)."""
         sp = self.samp
         return (sp.s, sp.r, sp.dr, self.wheel.d, self.rail.height_table[2], self.lim)
 
@@ -215,7 +217,7 @@ class LocusSide:
         n = gap.size
         if i <= 0 or i >= n - 1:
             return True
-        return not (np.isfinite(gap[i - 1]) and np.isfinite(gap[i + 1]))
+        return not (math.isfinite(gap[i - 1]) and math.isfinite(gap[i + 1]))
 
 
 
@@ -509,7 +511,7 @@ class LocusSolver:
         (:func:`~lutmpi.contact.rigid_kernels.end_circle_gap`)."""
         gaps = rk.rim_gaps(float(y), float(yaw), float(roll), float(z_g), *self._local_sides,
                            self._ends)
-        if not (gaps[:, :, 0] < -RIM_TOL).any():
+        if not any(g[0] < -RIM_TOL for side in gaps.tolist() for g in side):
             return ()
         return tuple((name, float(self._ends[k, e, 0]), float(gaps[k, e, 1]),
                       float(gaps[k, e, 0]))
@@ -559,9 +561,9 @@ class LocusSolver:
                                      float(roll), float(z_g), float(self.double_tol), int(mc),
                                      s_fix)
             out.contacts[name] = [
-                RigidContact(side=sd.sign, s=float(r[0]), phi=float(r[1]), point=r[2:5],
-                             u=float(r[5]), gap=float(r[6]), at_end=bool(r[7]))
-                for r in rows]
+                RigidContact(side=sd.sign, s=t[0], phi=t[1], point=r[2:5], u=t[5], gap=t[6],
+                             at_end=bool(t[7]))
+                for r, t in zip(rows, rows.tolist(), strict=True)]
         return out
 
 

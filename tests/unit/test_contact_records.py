@@ -42,8 +42,7 @@ def test_compiled_record_geometry_equals_the_geometry_methods():
         rp = np.column_stack([rng.uniform(-0.02, 0.02, n), sgn * u, rng.uniform(-0.03, 0.0, n)])
         nrm = np.column_stack([np.zeros(n), -sgn * np.sin(ang), np.cos(ang)])
         want = oracle(sd, side, rp, s, nrm, CURV_BASE)
-        got = record_geometry(side, rp[:, 1].copy(), rp[:, 2].copy(), s, nrm[:, 1].copy(),
-                              nrm[:, 2].copy(), wheel.profile.ppolys, wheel.r0, wheel.s_min,
+        got = record_geometry(side, rp, s, nrm, wheel.profile.ppolys, wheel.r0, wheel.s_min,
                               wheel.s_max, rail.ppolys,
                               (rail.u_min, rail.u_max, rail.gauge, rail.v_gp, rail.w_top,
                                rail.inclination), CURV_BASE)
