@@ -85,6 +85,13 @@ def warm_kernels() -> float:
     return time.perf_counter() - t0
 
 
+def load_kernels() -> None:
+    """Load every compiled kernel a build uses into this process (from the cache; a kernel the
+    cache lacks is compiled), without :func:`warm_kernels`'s lock and mark: for the ranks of a
+    job once the cache is complete (:func:`kernels_ready`)."""
+    _solve_every_method()
+
+
 def _solve_every_method() -> None:
     from lutmpi.contact.methods import METHOD_NAMES, get_method
     from lutmpi.pose.mesh import warm_rare_paths

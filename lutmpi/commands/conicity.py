@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import logging
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -55,6 +56,12 @@ DR_COLUMNS = ("y_mm", "delta_r_mm")
 
 
 def read_dr_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
+    """``y`` and ``Δr`` in m from a Δr file (:func:`read_dr_rows` without the line numbers)."""
+    y, dr, _ = read_dr_rows(path)
+    return y, dr
+
+
+def read_dr_rows(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``y`` and ``Δr`` in m from a UTF-8 CSV in mm with the header ``y_mm,delta_r_mm``.
 
     The columns are read by their names (any order); another column is an error naming it.
@@ -71,6 +78,8 @@ def read_dr_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     -------
     y, dr : ndarray, shape (n,)
         m, ``y`` strictly increasing.
+    lines : ndarray of int, shape (n,)
+        The file's line number of each row.
 
     Raises
     ------
@@ -112,7 +121,20 @@ def read_dr_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         a, b = sorted((lines[order[same[0]]], lines[order[same[0] + 1]]))
         raise ConfigError(f"lines {a} and {b}: y_mm = {y_mm[same[0]]:g} given twice; expected "
                           "one Δr per y", path=path)
-    return y_mm * 1e-3, data[order, 1] * 1e-3
+    return y_mm * 1e-3, data[order, 1] * 1e-3, np.asarray(lines)[order]
+
+
+def _dr_file_holes(path: str, y: np.ndarray, lines: np.ndarray) -> Callable[[np.ndarray], str]:
+    """``name_holes`` of :func:`lutmpi.reports.conicity.check_dr` for a Δr file: a hole is a
+    row whose ``delta_r_mm`` is ``nan``, named by its line (not a failed pose of a table)."""
+
+    def name(ys: np.ndarray) -> str:
+        at = lines[np.isin(y, ys)]
+        return (f"y = {', '.join(f'{v * 1e3:g}' for v in np.sort(ys))} mm (delta_r_mm = nan "
+                f"on line{'s' if at.size > 1 else ''} {', '.join(map(str, sorted(at)))} of "
+                f"{path})")
+
+    return name
 
 
 def _dr_header(record: tuple[int, list[str]], path: str) -> dict[str, int]:
@@ -160,9 +182,12 @@ def run(args: argparse.Namespace) -> int:
         amps = parse_amplitudes(args.amplitudes)
     except ValueError as exc:
         raise ConfigError(str(exc), key="--amplitudes") from exc
+    holes: dict[str, Any] = {}
     if args.dr:
-        y, dr = read_dr_csv(args.dr)
+        y, dr, lines = read_dr_rows(args.dr)
         label = Path(args.dr).name
+        holes = {"name_holes": _dr_file_holes(args.dr, y, lines),
+                 "remedy": "give those rows their Δr"}
     elif Path(args.table).suffix.lower() == ".toml":
         y, dr, cfg_r0 = config_dr(args.table, args.method)
         r0_mm = r0_mm or cfg_r0
@@ -172,7 +197,7 @@ def run(args: argparse.Namespace) -> int:
         r0_mm = r0_mm or table_r0
         label = Path(args.table).name
     try:
-        found = check_dr(y, dr, amps)
+        found = check_dr(y, dr, amps, **holes)
     except HoleError as exc:
         raise ConfigError(f"{label}: {exc}") from exc
     for line in found.warnings:

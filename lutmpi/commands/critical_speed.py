@@ -25,7 +25,9 @@ def register(subparsers: Any) -> None:
         description="Critical speed of the free wheelset on the table's contact geometry: a "
                     "linearised eigenvalue analysis (equivalent conicity, gravitational stiffness, "
                     "Kalker f11..f33) and a bisection on V with the nonlinear simulation. Exit 1 "
-                    "when the bisection does not bracket the critical speed.")
+                    "when the bisection does not bracket the critical speed, or the linear "
+                    "models find none (no pure-rolling pose; unstable or stable at every speed "
+                    "scanned).")
     p.add_argument("config", help="configuration TOML (with --table, the pair and the wheelset "
                                   "data are the table's; a config that differs is warned about)")
     p.add_argument("--table", help="lookup table (HDF5); required unless --online")
@@ -78,6 +80,37 @@ def _plain(value: Any) -> Any:
     return value
 
 
+def _no_speed(speed: float, v_min: str, v_max: str) -> str | None:
+    """Why a scan of the linear models found no critical speed (their 0: unstable at
+    ``v_min``, the scan's lowest speed; inf: stable up to ``v_max``), or None for a speed."""
+    if speed == 0.0:
+        return (f"the linearised model is unstable at every speed scanned, from {v_min} (no "
+                "stable rolling to lose)")
+    if not math.isfinite(speed):
+        return f"the linearised model is stable at every speed scanned, up to {v_max}"
+    return None
+
+
+def _no_rolling_pose(provider: Any, y_e: float) -> str | None:
+    """Why the linear models have no pose to linearise about, or None.
+
+    :func:`lutmpi.dynamics.critical.rolling_offset` answers 0 both for a wheelset whose wheels
+    roll alike when centred and for one whose Δr has no zero in reach (it warns): only the first
+    rolls steadily there; linearised about the second, the eigenvalues describe no motion."""
+    from lutmpi.dynamics.critical import PURE_ROLLING_TOL
+
+    if y_e != 0.0:
+        return None
+    g = provider.evaluate(0.0, 0.0)
+    d0 = float(g.rolling_radius[0, 0] - g.rolling_radius[1, 0])
+    if abs(d0) < PURE_ROLLING_TOL:
+        return None
+    return (f"the wheelset has no pure-rolling pose: the rolling radii differ by Δr = "
+            f"{d0 * 1e3:.3f} mm when centred and Δr does not vanish in the lateral range "
+            "scanned (the warning above says where the scan ended), so there is no steady "
+            "rolling to linearise about; check the two wheels' radii and profiles")
+
+
 def run(args: argparse.Namespace) -> int:
     from lutmpi.dynamics.critical import (
         check_linear_range,
@@ -104,22 +137,34 @@ def run(args: argparse.Namespace) -> int:
         say(f"{source}: the two wheels differ: pure rolling at y = {y_e * 1e3:.3f} mm "
             "(Δr = 0); the linear models are about that pose")
     check_linear_range(provider, args.amplitude, y_e, name="--amplitude")
-    lp = linear_parameters(provider, params, amplitude=args.amplitude, centre=y_e)
-    lin = linear_critical_speed(lp, params)
-    v_j, f_j = jacobian_critical_speed(provider, params, amplitude=args.amplitude, centre=y_e)
-    out: dict[str, Any] = {"source": source, "classical": lin.as_dict(),
-                           "linear": {"speed": v_j, "frequency": f_j}}
-    say(f"{source}: linearised model (Jacobian of the simulated rhs): critical speed "
-        f"{v_j:.3f} m/s, hunting frequency {f_j:.3f} Hz")
-    say(f"{source}: classical Wickens model: {lin.speed:.3f} m/s (lam_e {lp.lam_e:.4f} at "
-        f"{args.amplitude * 1e3:g} mm, k_gy {lp.k_gy:.4g} N/m, k_spin {lp.k_spin:.4g} N/m)")
+    out: dict[str, Any] = {"source": source}
+    why = _no_rolling_pose(provider, y_e)
+    v_j = math.nan
+    if why is None:
+        lp = linear_parameters(provider, params, amplitude=args.amplitude, centre=y_e)
+        lin = linear_critical_speed(lp, params)
+        v_j, f_j = jacobian_critical_speed(provider, params, amplitude=args.amplitude,
+                                           centre=y_e)
+        out.update(classical=lin.as_dict(),
+                   linear={"speed": v_j, "frequency": f_j, "found": True})
+        why = _no_speed(v_j, "1 m/s", "100 m/s")
+        if why is None:
+            say(f"{source}: linearised model (Jacobian of the simulated rhs): critical speed "
+                f"{v_j:.3f} m/s, hunting frequency {f_j:.3f} Hz")
+        classical = _no_speed(lin.speed, "0.5 m/s", "200 m/s")
+        if classical is not None:
+            out["classical"].update(speed=None, message=classical)
+        say(f"{source}: classical Wickens model: {classical or f'{lin.speed:.3f} m/s'} (lam_e "
+            f"{lp.lam_e:.4f} at {args.amplitude * 1e3:g} mm, k_gy {lp.k_gy:.4g} N/m, k_spin "
+            f"{lp.k_spin:.4g} N/m)")
     failure = None
-    if not args.linear_only and not (math.isfinite(v_j) and v_j > 0):
-        failure = ("nonlinear critical speed not bracketed: the bisection starts from the "
-                   "linearised speed, and the linearised model is "
-                   + ("unstable at every speed scanned" if v_j == 0 else
-                      "stable at every speed scanned (up to 100 m/s)")
-                   + "; pass --linear-only for the linear results alone")
+    if why is not None:   # the error line says it (exit 1, as an unbracketed bisection)
+        # 0 or inf is no speed: as data it is null, never a number to read as a speed
+        out["linear"] = {"speed": None, "frequency": None, "found": False, "message": why}
+        failure = f"{source}: no linear critical speed: {why}"
+    if not args.linear_only and why is not None:
+        failure = (f"{source}: nonlinear critical speed not bracketed: the bisection starts "
+                   f"from the linear critical speed, and there is none: {why}")
         out["nonlinear"] = {"speed": None, "converged": False, "message": failure, "runs": []}
     elif not args.linear_only:
         nl = nonlinear_critical_speed(provider, params, 0.7 * v_j, 1.4 * v_j,

@@ -19,6 +19,10 @@ DT_OUT = 0.005
 #: solve_ivp's method names (:data:`lutmpi.dynamics.simulate.INTEGRATORS`, which imports numba:
 #: the parser must not; a test keeps the two equal)
 INTEGRATORS = ("LSODA", "BDF", "Radau", "RK45", "RK23", "DOP853")
+#: root attributes of a run's file -> SI unit, written beside each as ``<name>_units`` (the
+#: datasets carry ``units``; ``wall_time_s`` has its unit in its name, as a table's has)
+ROOT_UNITS = {"speed": "m/s", "growth_rate": "1/s", "amplitude": "m", "max_y_over_q": "1",
+              "nadal_limit": "1", "flange_angle": "rad", "sim_per_wall": "1"}
 #: the figures a run writes, ``<stem>_<key>.png`` (:func:`lutmpi.reports.dynamics_plots.plot_run`,
 #: which imports matplotlib; a test keeps the two equal)
 PLOT_KEYS = ("y", "yaw", "roll", "fy")
@@ -85,7 +89,9 @@ def run_outputs(output: str | Path, inputs: tuple[str | None, ...], force: bool
 
 
 def write_run(path: str | Path, run: Any, source: str) -> None:
-    """Time histories to HDF5 (serial h5py), SI units in each dataset's ``units`` attribute."""
+    """Time histories to HDF5 (serial h5py), SI units in each dataset's ``units`` attribute and
+    in ``<name>_units`` beside each root attribute of :data:`ROOT_UNITS` (``params_units``:
+    the JSON of the parameters' units)."""
     import h5py
 
     from lutmpi import __version__
@@ -115,6 +121,8 @@ def write_run(path: str | Path, run: Any, source: str) -> None:
 
 def _write_h5(h5py: Any, path: Path, data: dict[str, tuple[Any, str]], run: Any, source: str,
               version: str) -> None:
+    from lutmpi.dynamics.wheelset import WheelsetParams
+
     with h5py.File(path, "w") as f:
         for name, (arr, units) in data.items():
             d = f.create_dataset(name, data=np.asarray(arr))
@@ -128,7 +136,9 @@ def _write_h5(h5py: Any, path: Path, data: dict[str, tuple[Any, str]], run: Any,
             "message": run.message, "nfev": run.nfev, "wall_time_s": run.wall_time,
             "sim_per_wall": run.sim_per_wall, "kind": s.kind, "growth_rate": s.growth_rate,
             "amplitude": s.amplitude, "max_y_over_q": run.max_y_over_q, "nadal_limit": run.nadal,
-            "flange_angle": run.flange_angle, "dims": "time, side [0=left, 1=right], slot, xyz"})
+            "flange_angle": run.flange_angle, "dims": "time, side [0=left, 1=right], slot, xyz",
+            "params_units": json.dumps(WheelsetParams.UNITS)})
+        f.attrs.update({f"{name}_units": unit for name, unit in ROOT_UNITS.items()})
 
 
 def run(args: argparse.Namespace) -> int:

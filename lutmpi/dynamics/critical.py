@@ -54,6 +54,8 @@ LINEAR_YAW_STEP = 1e-3
 JACOBIAN_YAW_STEP = 1e-5
 #: output step of the bisection's runs, s
 NONLINEAR_DT_OUT = 0.01
+#: |Δr| below this counts as pure rolling, m (:func:`rolling_offset`)
+PURE_ROLLING_TOL = 1e-9
 
 
 def _table_range(provider: object) -> str:
@@ -208,7 +210,7 @@ def rolling_offset(provider: ContactProvider, reach: float = 5e-3) -> float:
         return float(g.rolling_radius[0, 0] - g.rolling_radius[1, 0])
 
     d0 = dr(0.0)
-    if abs(d0) < 1e-9:
+    if abs(d0) < PURE_ROLLING_TOL:
         return 0.0
     step = 1e-4
     prev = {1.0: (0.0, d0), -1.0: (0.0, d0)}
@@ -237,8 +239,9 @@ def rolling_offset(provider: ContactProvider, reach: float = 5e-3) -> float:
             prev[sign] = (y, v)
         if not prev:
             break
-    log.warning("no pure-rolling offset within %.1f mm%s (Δr(0) = %.3f mm): linear model about "
-                "the centred pose", reach * 1e3,
+    log.warning("no pure-rolling offset within %.1f mm%s (Δr(0) = %.3f mm): no steady rolling "
+                "pose; a linear model taken anyway is about the centred pose, which is none",
+                reach * 1e3,
                 f" (the scan stopped at {', '.join(ends)})" if ends else "", d0 * 1e3)
     return 0.0
 

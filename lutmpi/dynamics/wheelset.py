@@ -46,7 +46,7 @@ import math
 import tomllib
 from dataclasses import dataclass, replace
 from functools import lru_cache
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -103,6 +103,13 @@ class WheelsetParams:
     creep_speed_floor: float = 0.01
     min_curvature_ratio: float = 0.02
     gyroscopic: bool = True
+
+    #: field -> SI unit of the numbers (``"1"`` dimensionless; the two switches have none),
+    #: for files that store the parameters (``lutmpi simulate``'s ``params_units``)
+    UNITS: ClassVar[dict[str, str]] = {
+        "mass": "kg", "I_xx": "kg m^2", "I_yy": "kg m^2", "I_zz": "kg m^2", "mu": "1",
+        "vertical_load": "N", "gravity": "m/s^2", "young": "Pa", "poisson": "1", "r0": "m",
+        "creep_speed_floor": "m/s", "min_curvature_ratio": "1"}
 
     @property
     def shear(self) -> float:

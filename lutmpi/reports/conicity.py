@@ -52,6 +52,7 @@ digits by cancellation near the ends. The transformed integral is done by adapti
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,7 +61,7 @@ from scipy import integrate, optimize
 from lutmpi.table.schema import JUMPS_GROUP, KNOTS_GROUP, LIMITS_GROUP, Y_AXIS, YAW_AXIS, D, J
 
 __all__ = ["ConicityResult", "equivalent_conicity", "conicity_curve", "parse_amplitudes",
-           "dr_from_table", "check_dr", "DrCheck", "HoleError"]
+           "dr_from_table", "check_dr", "DrCheck", "HoleError", "failed_poses"]
 
 
 class _PiecewiseLinear:
@@ -417,7 +418,14 @@ class DrCheck:
     warnings: list[str]
 
 
-def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
+def failed_poses(y: np.ndarray) -> str:
+    """The holes at ``y`` (m) of a table's Δr: its failed poses (:func:`check_dr`)."""
+    return f"y = {_mm_list(y)} mm (failed poses)"
+
+
+def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True,
+             name_holes: Callable[[np.ndarray], str] = failed_poses,
+             remedy: str = "rebuild those poses") -> DrCheck:
     """Refuse or flag what would make an equivalent conicity hide a gap in Δr(y).
 
     * A hole (NaN: a failed pose) at ``|y| < max(amplitudes)`` -- inside the lateral range the
@@ -436,31 +444,35 @@ def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
     refuse_holes : bool
         Raise on a hole inside the amplitude range (the ``conicity`` command) instead of limiting
         the amplitudes (the reports, which show the limit).
+    name_holes : callable
+        ``name_holes(y)`` names the holes at ``y`` (m) where they come from (default: a table's
+        failed poses; a Δr file's rows).
+    remedy : str
+        What fills a hole, after "use amplitudes below ... or".
     """
     y = np.asarray(y, float)
     dr = np.asarray(dr, float)
     amps = np.atleast_1d(np.asarray(amplitudes, float))
-    holes = y[~np.isfinite(dr)]
+    missing = y[~np.isfinite(dr)]
     warnings: list[str] = []
     amax = float(amps.max()) if amps.size else 0.0
-    inside = holes[np.abs(holes) < amax]
+    inside = missing[np.abs(missing) < amax]
     dy = float(np.max(np.diff(y))) if y.size > 1 else math.inf
     if inside.size and refuse_holes:
         raise HoleError(
-            f"Δr has no value at y = {_mm_list(inside)} mm (failed poses) inside the amplitude "
-            f"range ±{amax * 1e3:g} mm: the conicity would integrate across the hole; use "
-            f"amplitudes below {np.abs(inside).min() * 1e3:g} mm or rebuild those poses")
+            f"Δr has no value at {name_holes(inside)} inside the amplitude range "
+            f"±{amax * 1e3:g} mm: the conicity would integrate across the hole; use amplitudes "
+            f"below {np.abs(inside).min() * 1e3:g} mm or {remedy}")
     reach = min(-float(y[0]), float(y[-1]))
-    nearest = float(np.abs(holes).min()) if holes.size else math.inf
+    nearest = float(np.abs(missing).min()) if missing.size else math.inf
     # never join across a hole: integrate only the run of values around y = 0
     keep = np.isfinite(dr) & (np.abs(y) < nearest)
     usable = min(-float(y[keep].min()), float(y[keep].max())) if keep.any() else 0.0
     if inside.size:
-        warnings.append(f"Δr missing at y = {_mm_list(inside)} mm (failed poses): amplitudes "
-                        f"above {usable * 1e3:g} mm not computed")
-    elif holes.size:
-        warnings.append(f"Δr missing at y = {_mm_list(holes)} mm (failed poses), outside the "
-                        "amplitudes used")
+        warnings.append(f"Δr missing at {name_holes(inside)}: amplitudes above {usable * 1e3:g} mm "
+                        "not computed")
+    elif missing.size:
+        warnings.append(f"Δr missing at {name_holes(missing)}, outside the amplitudes used")
     beyond = amps[amps > usable + 1e-12]
     off_table = amps[amps > reach + 1e-12]
     if off_table.size:
@@ -469,7 +481,7 @@ def check_dr(y, dr, amplitudes, *, refuse_holes: bool = True) -> DrCheck:
     if dy > MAX_DY * (1 + 1e-9):
         warnings.append(f"y step {dy * 1e3:g} mm is coarser than 0.1 mm (EN 15302's benchmark "
                         "data): the conicity of a non-linear Δr(y) carries that discretisation")
-    return DrCheck(y[keep], dr[keep], holes, beyond, dy, warnings)
+    return DrCheck(y[keep], dr[keep], missing, beyond, dy, warnings)
 
 
 def _mm_list(values: np.ndarray, span: bool = False) -> str:

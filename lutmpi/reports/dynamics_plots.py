@@ -13,11 +13,12 @@ import numpy as np  # noqa: E402
 
 from lutmpi.dynamics.simulate import SimulationResult  # noqa: E402
 
+#: (key, title, axis name, unit, scale from SI to the unit)
 _PANELS = (
-    ("y", "transverse displacement of the centre of mass (Fig. 11)", "y [mm]", 1e3),
-    ("yaw", "yaw angle (Fig. 12)", "yaw [mrad]", 1e3),
-    ("roll", "roll angle (Fig. 13)", "roll [mrad]", 1e3),  # not a dataset: a run's series
-    ("fy", "lateral tangential force per wheel (Fig. 14)", "F_y [kN]", 1e-3),
+    ("y", "transverse displacement of the centre of mass (Fig. 11)", "y", "mm", 1e3),
+    ("yaw", "yaw angle (Fig. 12)", "yaw", "mrad", 1e3),
+    ("roll", "roll angle (Fig. 13)", "roll", "mrad", 1e3),  # not a dataset: a run's series
+    ("fy", "lateral tangential force per wheel (Fig. 14)", "F_y", "kN", 1e-3),
 )
 
 
@@ -51,9 +52,38 @@ def steady_limits(t: np.ndarray, series: Sequence[np.ndarray]) -> tuple[float, f
     return lo - pad, hi + pad
 
 
+def panel(runs: Sequence[SimulationResult], key: str,
+          labels: Sequence[str] | None = None) -> plt.Figure:
+    """The figure of one quantity of :data:`_PANELS` (``key``), every run overlaid; a start-up
+    peak beyond the axis is named in the title with its unit."""
+    _, title, name, unit, scale = next(p for p in _PANELS if p[0] == key)
+    labels = labels or [f"V = {r.speed:g} m/s" for r in runs]
+    fig, ax = plt.subplots(figsize=(7, 3.2), constrained_layout=True)
+    limits, extreme = [], 0.0
+    for run, label in zip(runs, labels, strict=True):
+        series = [data * scale for data, _ in _series(run, key)]
+        for data, (_, side) in zip(series, _series(run, key), strict=True):
+            ax.plot(run.t, data, lw=1.0, label=label if side is None else f"{label}, {side}")
+        extreme = max([extreme] + [float(np.nanmax(np.abs(d))) for d in series if d.size])
+        lim = steady_limits(run.t, series)
+        if lim is not None:
+            limits.append(lim)
+    if limits:
+        lo, hi = min(a for a, _ in limits), max(b for _, b in limits)
+        ax.set_ylim(lo, hi)
+        if extreme > max(abs(lo), abs(hi)):
+            title += f"; start-up peak {extreme:.3g} {unit} off the axis"
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel(f"{name} [{unit}]")
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
+
+
 def plot_run(runs: Sequence[SimulationResult], prefix: str | Path,
              labels: Sequence[str] | None = None) -> list[Path]:
-    """One PNG per quantity (``<prefix>_y.png`` ...), every run overlaid.
+    """One PNG per quantity (``<prefix>_y.png`` ...), every run overlaid (:func:`panel`).
 
     Parameters
     ----------
@@ -64,30 +94,9 @@ def plot_run(runs: Sequence[SimulationResult], prefix: str | Path,
         Legend label per run (default ``V = ... m/s``).
     """
     prefix = Path(prefix)
-    labels = labels or [f"V = {r.speed:g} m/s" for r in runs]
     out = []
-    for key, title, ylabel, scale in _PANELS:
-        fig, ax = plt.subplots(figsize=(7, 3.2), constrained_layout=True)
-        limits, extreme = [], 0.0
-        for run, label in zip(runs, labels, strict=True):
-            series = [data * scale for data, _ in _series(run, key)]
-            for data, (_, side) in zip(series, _series(run, key), strict=True):
-                ax.plot(run.t, data, lw=1.0,
-                        label=label if side is None else f"{label}, {side}")
-            extreme = max([extreme] + [float(np.nanmax(np.abs(d))) for d in series if d.size])
-            lim = steady_limits(run.t, series)
-            if lim is not None:
-                limits.append(lim)
-        if limits:
-            lo, hi = min(a for a, _ in limits), max(b for _, b in limits)
-            ax.set_ylim(lo, hi)
-            if extreme > max(abs(lo), abs(hi)):
-                title += f"; start-up peak {extreme:.3g} off the axis"
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel(ylabel)
-        ax.set_title(title, fontsize=10)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+    for key, *_ in _PANELS:
+        fig = panel(runs, key, labels)
         path = prefix.parent / f"{prefix.name}_{key}.png"
         fig.savefig(path, dpi=110)
         plt.close(fig)

@@ -15,7 +15,8 @@ import numpy as np  # noqa: E402
 
 from lutmpi.reports.convergence import QUANTITIES, MemberMetrics  # noqa: E402
 
-__all__ = ["error_vs_time", "error_vs_spacing", "error_map", "lines_vs_y", "conicity_plot"]
+__all__ = ["error_vs_time", "error_vs_spacing", "error_map", "lines_vs_y", "conicity_plot",
+           "draw_curves"]
 
 
 def _save(fig: plt.Figure, path: str | Path) -> Path:
@@ -99,27 +100,56 @@ def error_map(y: np.ndarray, yaw: np.ndarray, err: np.ndarray, quantity: str, ti
     return _save(fig, path)
 
 
+#: line styles cycled with the colours, so that members whose curves coincide (a wear that
+#: changes only the flange leaves the tread's Δr alike) all stay visible, one over the other
+_STYLES = ("-", "--", ":", "-.")
+
+
+def draw_curves(ax: plt.Axes, curves: Mapping[str, tuple[np.ndarray, np.ndarray]],
+                xscale: float = 1.0, yscale: float = 1.0) -> list[str]:
+    """One line per curve ``curves[name] = (x, value)`` (scaled), NaN a gap, and a legend of
+    exactly the lines drawn; returns the names without a finite value, which are not drawn
+    (a legend entry would stand for no curve) but named in the axes instead."""
+    empty = []
+    n = 0
+    for name, (x, v) in curves.items():
+        x, v = np.asarray(x, float), np.asarray(v, float)
+        if not np.isfinite(v).any():
+            empty.append(name)
+            continue
+        # 20 members before a colour and style repeat, each line thinner than the one it is
+        # drawn over; points marked: a value between two gaps is no line
+        ax.plot(x * xscale, v * yscale, ls=_STYLES[n % len(_STYLES)],
+                lw=2.0 - 0.3 * (n % len(_STYLES)), marker=".", ms=3, color=f"C{n % 10}",
+                label=name)
+        n += 1
+    if n:
+        ax.legend(fontsize=6)
+    if empty:
+        ax.text(0.02, 0.02, "no value: " + ", ".join(empty), transform=ax.transAxes,
+                fontsize=7, va="bottom", wrap=True)
+    return empty
+
+
 def lines_vs_y(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], ylabel: str,
                path: str | Path, yscale: float = 1.0) -> Path:
-    """One line per member: ``curves[id] = (y [m], value)``; ``yscale`` converts the value."""
+    """One line per member: ``curves[id] = (y [m], value)``, NaN a gap; ``yscale`` converts the
+    value (:func:`draw_curves`)."""
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for name, (y, v) in curves.items():
-        ax.plot(np.asarray(y) * 1e3, np.asarray(v) * yscale, label=name)
+    draw_curves(ax, curves, 1e3, yscale)
     ax.set_xlabel("y [mm]")
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=6)
     return _save(fig, path)
 
 
 def conicity_plot(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], path: str | Path) -> Path:
-    """Equivalent conicity against amplitude: ``curves[name] = (amplitude [m], tan gamma_e)``."""
+    """Equivalent conicity against amplitude: ``curves[name] = (amplitude [m], tan gamma_e)``
+    (:func:`draw_curves`)."""
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for name, (a, c) in curves.items():
-        ax.plot(np.asarray(a) * 1e3, c, label=name)
+    draw_curves(ax, curves, 1e3)
     ax.axvline(3.0, color="k", lw=0.6, ls=":")
     ax.set_xlabel("amplitude ŷ [mm]")
     ax.set_ylabel("equivalent conicity tan γe [-]")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=6)
     return _save(fig, path)

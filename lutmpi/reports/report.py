@@ -31,6 +31,7 @@ from lutmpi.reports.convergence import (
     error_maps,
     mesh_spacing_of,
 )
+from lutmpi.reports.owned import report_files
 from lutmpi.table.schema import Y_AXIS, YAW_AXIS, D
 
 log = logging.getLogger(__name__)
@@ -271,10 +272,13 @@ def _wear(data: SweepData, report: Path) -> list[str]:
     from lutmpi.reports import plots
 
     amps = con.parse_amplitudes(AMPLITUDES)
-    dr_c, ang_c, roll_c, conic = {}, {}, {}, {}
+    ang_c, roll_c, conic, full_c = {}, {}, {}, {}
     rows = ["## Wear: rolling-radius difference and equivalent conicity (yaw = 0)", "",
             "EN 15302 Annex B integration; Δr = r_left − r_right of contact slot 0 (positive for "
-            "y > 0, to the left). `–` = the amplitude does not fit in the table's y range.", "",
+            "y > 0, to the left). `–` = the amplitude does not fit in the table's y range. "
+            "`wear_dr.png` (data: `wear_dr.csv`) shows Δr over each table's whole y range, a "
+            "failed pose a gap; the conicity integrates Δr only up to the first gap either "
+            "side of y = 0.", "",
             "| member | tan γe at ŷ = 1 mm | 2 mm | 3 mm | 4 mm | 6 mm | max ŷ [mm] |",
             "|---|---|---|---|---|---|---|"]
     notes = []
@@ -287,17 +291,23 @@ def _wear(data: SweepData, report: Path) -> list[str]:
         found = con.check_dr(y_all, dr_all, amps, refuse_holes=False)
         notes += [f"- `{t.id}`: {w}" for w in found.warnings if "coarser" not in w]
         y, dr = found.y, found.dr
-        if y.size < 3:
+        # drawn over the table's whole y range, a failed pose a gap: the conicity integrates
+        # only the run around y = 0 up to the first gap (found.y), the figure shows all
+        full_c[t.id] = (y_all, dr_all)
+        j = int(np.argmin(np.abs(np.asarray(t.table[YAW_AXIS]))))
+        g = t.group
+        failed = np.asarray(g[D.status])[:, j] != 0    # the stored values of a failed pose
+        if D.contact_angle in g:
+            ang_c[t.id] = (np.asarray(t.table[Y_AXIS]), np.where(
+                failed, np.nan, np.asarray(g[D.contact_angle])[:, j, 0, 0]))
+        if D.roll in g:
+            roll_c[t.id] = (np.asarray(t.table[Y_AXIS]),
+                            np.where(failed, np.nan, np.asarray(g[D.roll])[:, j]))
+        if y.size < 3:   # in every figure all the same: its conicity curve says "no value"
+            conic[t.id] = (amps, np.full(amps.shape, math.nan))
             rows.append(f"| {t.id} | fewer than 3 converged points around y = 0 at yaw 0 "
                         "| | | | | |")
             continue
-        j = int(np.argmin(np.abs(np.asarray(t.table[YAW_AXIS]))))
-        g = t.group
-        dr_c[t.id] = (y, dr)
-        if D.contact_angle in g:
-            ang_c[t.id] = (np.asarray(t.table[Y_AXIS]), np.asarray(g[D.contact_angle])[:, j, 0, 0])
-        if D.roll in g:
-            roll_c[t.id] = (np.asarray(t.table[Y_AXIS]), np.asarray(g[D.roll])[:, j])
         res = con.conicity_curve(y, dr, amps)
         conic[t.id] = (amps, res.tan_gamma_e)
         at = [res.at(a * 1e-3) if np.isfinite(res.tan_gamma_e[np.argmin(abs(amps - a * 1e-3))])
@@ -306,13 +316,20 @@ def _wear(data: SweepData, report: Path) -> list[str]:
         rows.append(f"| {t.id} | " + " | ".join(_fmt(v) for v in at)
                     + f" | {_fmt(reach.max() * 1e3 if reach.size else math.nan)} |")
     figs = []
-    if dr_c:
-        figs.append(plots.lines_vs_y(dr_c, "Δr = r_left − r_right [mm]", report / "wear_dr.png",
-                                     1e3).name)
+    if full_c:
+        figs.append(plots.lines_vs_y(full_c, "Δr = r_left − r_right [mm]",
+                                     report / "wear_dr.png", 1e3).name)
+        with open(report / "wear_dr.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["member", "y_mm", "delta_r_mm"])
+            for name, (y, dr) in full_c.items():
+                w.writerows([name, f"{a * 1e3:.6g}", "" if math.isnan(b) else f"{b * 1e3:.6g}"]
+                            for a, b in zip(y, dr, strict=True))
+    if conic:
         figs.append(plots.conicity_plot(conic, report / "wear_conicity.png").name)
     if ang_c:
-        figs.append(plots.lines_vs_y(ang_c, "contact angle, left wheel slot 0 [rad]",
-                                     report / "wear_contact_angle.png").name)
+        figs.append(plots.lines_vs_y(ang_c, "contact angle, left wheel slot 0 [deg]",
+                                     report / "wear_contact_angle.png", 180.0 / math.pi).name)
     if roll_c:
         figs.append(plots.lines_vs_y(roll_c, "roll [mrad]", report / "wear_roll.png", 1e3).name)
     with open(report / "conicity.csv", "w", newline="") as fh:
@@ -415,6 +432,11 @@ def build_report(outdir: str | Path, report_dir: str | Path, reference: str = "r
     data = load_sweep(outdir)
     report = Path(report_dir)
     report.mkdir(parents=True, exist_ok=True)
+    with report_files(report):   # an earlier report's figures go: none of them looks current
+        return _write_report(data, report, reference, wear)
+
+
+def _write_report(data: SweepData, report: Path, reference: str, wear: bool | None) -> Path:
     lines = [f"# Sweep report: {data.outdir}", "", _status_line(data.index), ""]
     listed = [e for e in data.index if e.get(STATUS_KEY) != "ok"] + [
         {"id": i, STATUS_KEY: "unreadable", "message": m} for i, m in data.unreadable]

@@ -19,6 +19,7 @@ import numpy as np
 from lutmpi.errors import MissingQuantityError
 from lutmpi.reports import breaks, indices
 from lutmpi.reports import conicity as con
+from lutmpi.reports.owned import report_files
 from lutmpi.reports.pair import PairInfo, en15302_case, pair_info
 from lutmpi.table.schema import D
 
@@ -289,16 +290,17 @@ def build_table_report(table_path: str | Path, report_dir: str | Path, *,
     ctx = ReportContext(table, method, out, pair_info(table.config_toml), j0,
                         breaks.break_mask(table, method, j0), at, band_case)
     lines: list[str] = []
-    for section in SECTIONS:
-        try:
-            lines += section(ctx)
-        except MissingQuantityError as exc:   # a table of a subset of the quantities
-            note = (f"section `{section.__name__.lstrip('_')}` left out: the table does not "
-                    f"store what it shows ({exc})")
-            log.warning("%s", note)
-            ctx.warnings.append(note)
-    lines += _warnings(ctx)
     path = out / "report.md"
-    path.write_text("\n".join(lines) + "\n")
+    with report_files(out):   # an earlier report's figures go: none of them looks current
+        for section in SECTIONS:
+            try:
+                lines += section(ctx)
+            except MissingQuantityError as exc:   # a table of a subset of the quantities
+                note = (f"section `{section.__name__.lstrip('_')}` left out: the table does "
+                        f"not store what it shows ({exc})")
+                log.warning("%s", note)
+                ctx.warnings.append(note)
+        lines += _warnings(ctx)
+        path.write_text("\n".join(lines) + "\n")
     log.info("report written to %s (%d figures)", path, len(ctx.figures))
     return path

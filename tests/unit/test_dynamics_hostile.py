@@ -11,13 +11,18 @@ failure reported with exit 0:
   earlier run's figures beside the new data;
 * ``simulate`` on a 1-D table stopped with "left the table" at a pose inside it;
 * with ``--table`` a config of another pair was ignored without a word, and ``--online`` ignored
-  ``--table`` without a word.
+  ``--table`` without a word;
+* ``critical-speed --linear-only`` on a wheelset without a pure-rolling pose printed "critical
+  speed 0.000 m/s" and exited 0 (``--json``: ``"speed": 0.0``);
+* ``simulate``'s root attributes (speed, growth rate, amplitude, ...) had no units, nor the
+  ``fy`` figure's start-up peak in its title.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import re
 from dataclasses import replace
 
 import h5py
@@ -77,6 +82,18 @@ def tables(tmp_path_factory):
     other.write_text(OTHER)
     out["other"] = other
     return out
+
+
+@pytest.fixture(scope="module")
+def asym(tmp_path_factory):
+    """``(config, table)``: the left wheel 5 mm larger in radius, Δr(0) = 5 mm, which no lateral
+    shift within the table's ±4 mm cancels: no pose rolls purely."""
+    d = tmp_path_factory.mktemp("asym")
+    cfg = d / "asym.toml"
+    cfg.write_text(CONFIG.format(ny=5, yaw="-0.01, 0.01, 3").replace(
+        "[rail]", "[wheel.left]\nnominal_radius_mm = 465.0\n[rail]", 1))
+    assert main(["build", str(cfg), "-o", str(d / "asym.h5")]) == 0
+    return cfg, d / "asym.h5"
 
 
 def _critical(tables, kind, *extra, config=None):
@@ -171,6 +188,26 @@ def test_a_run_that_leaves_the_table_stops_the_bisection_with_its_message(tables
     assert "left the table" in nl.message and "10 m/s stopped" in nl.message
 
 
+def test_no_pure_rolling_pose_is_no_linear_critical_speed_and_exit_1(asym, capsys):
+    """Before: ``critical speed 0.000 m/s, hunting frequency nan Hz``, exit 0; with ``--json``
+    ``"speed": 0.0``, a number to read as a speed."""
+    cfg, table = asym
+    base = ["critical-speed", str(cfg), "--table", str(table)]
+    assert main([*base, "--linear-only"]) == 1
+    cap = capsys.readouterr()
+    assert "error: " in cap.err and "no linear critical speed" in cap.err, cap.err
+    assert "no pure-rolling pose" in cap.err and "Δr = 5.0" in cap.err
+    assert "m/s" not in cap.out and "Traceback" not in cap.err
+    assert main([*base, "--linear-only", "--json"]) == 1
+    cap = capsys.readouterr()
+    lin = json.loads(cap.out)["linear"]                  # standard output: the JSON alone
+    assert lin["speed"] is None and lin["found"] is False and "pure-rolling" in lin["message"]
+    # the bisection starts from the linear speed: there is none to start from
+    assert main([*base, "--json", "--duration", "2"]) == 1
+    nl = json.loads(capsys.readouterr().out)["nonlinear"]
+    assert nl["converged"] is False and "there is none" in nl["message"]
+
+
 # -- 3. option values no run can use --------------------------------------------------------------
 @pytest.mark.parametrize("argv", [
     ["critical-speed", "C", "--table", "T", "--amplitude", "0"],
@@ -250,6 +287,41 @@ def test_an_earlier_run_is_kept_unless_forced_and_no_plots_removes_its_figures(t
     out.unlink()
     assert main([*base, "--speed", "13"]) == 1
     assert "sim1_y.png exists" in capsys.readouterr().err
+
+
+def test_a_runs_root_attributes_and_its_force_title_carry_their_units(tables, tmp_path):
+    """Before: ``speed``, ``growth_rate``, ``amplitude``, ``flange_angle``, the parameters: bare
+    numbers; the force figure's title ``start-up peak 19.9 off the axis``."""
+    cfg, table = tables["2d"]
+    out = tmp_path / "u.h5"
+    assert main(["simulate", str(cfg), "--table", str(table), "--duration", "0.2", "-o",
+                 str(out), "--no-plots"]) == 0
+    with h5py.File(out, "r") as f:
+        attrs = dict(f.attrs)
+        assert all("units" in d.attrs for d in f.values() if isinstance(d, h5py.Dataset))
+    numbers = [k for k, v in attrs.items() if isinstance(v, float | np.floating)]
+    assert {"speed", "growth_rate", "amplitude", "flange_angle"} <= set(numbers)
+    for name in numbers:       # a unit beside it, or in its name as a table's wall_time_s
+        assert f"{name}_units" in attrs or name.endswith("_s"), name
+    assert attrs["speed_units"] == "m/s" and attrs["growth_rate_units"] == "1/s"
+    params, units = json.loads(attrs["params"]), json.loads(attrs["params_units"])
+    assert {k for k, v in params.items() if not isinstance(v, bool | str)} == set(units)
+    assert units["mass"] == "kg" and units["young"] == "Pa"
+    from lutmpi.dynamics.simulate import simulate
+    from lutmpi.providers import params_from_table
+    from lutmpi.reports.dynamics_plots import panel
+
+    t = Table.open(table)
+    run = simulate(TableProvider(t), params_from_table(t), 12.0, 1.0)
+    fig = panel([run], "fy")
+    try:
+        title = fig.axes[0].get_title()
+        assert "start-up peak" in title and re.search(r"peak [\d.e+-]+ kN off", title), title
+        assert fig.axes[0].get_ylabel() == "F_y [kN]"
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
 
 
 # -- 5. simulate on a 1-D table ------------------------------------------------------------------
