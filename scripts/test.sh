@@ -58,7 +58,9 @@ say "lint: ruff check lutmpi tests"
 finish lint $?
 
 say "serial tier: pytest -m \"$marker\""
-timeout -k 30 2400 "$PY" -m pytest tests -m "$marker" "${common[@]}" "$@" 2>&1 | tr -d '\000'
+# --durations: the slowest tests in every log, so that CI's 30-minute budget is watched
+timeout -k 30 2400 "$PY" -m pytest tests -m "$marker" "${common[@]}" --durations=20 "$@" 2>&1 \
+  | tr -d '\000'
 finish serial "${PIPESTATUS[0]}"
 
 # mpi_tier N: run tests/mpi under mpirun -n N; rank r > 0 writes to $logdir/mpi-nN-rank<r>.log
