@@ -64,6 +64,11 @@ T_SUMS = "tests/unit/test_table_checksums.py"
 T_FLOOR = "tests/unit/test_scan_window_floor.py"
 T_BATCH = ("tests/integration/test_real_solver_parity.py::"
            "test_static_split_with_multi_point_batches_equals_serial")
+T_EXPORT = "tests/unit/test_export.py"
+T_READERS = "tests/unit/test_profiles_readers.py"
+T_DR_CSV = "tests/unit/test_csv_inputs.py"
+T_DYN_CF = "tests/unit/test_dynamics_closed_forms.py"
+T_PHYS_CF = "tests/unit/test_physics_closed_forms.py"
 CONTACT = (T_STORED, T_CLOSED, T_MESH)
 
 
@@ -187,8 +192,8 @@ MUTATIONS: tuple[Mutation, ...] = (
       "        out[i, 3] = 1.0 / r", (T_STORED,),
       "rolling curvature without Meusnier's cos(slope)"),
     M("contact_angle_sign", "geometry", "lutmpi/contact/records.py",
-      "        out[i, 1] = np.arctan2(-sgn[i] * n_y[i], n_z[i])",
-      "        out[i, 1] = np.arctan2(sgn[i] * n_y[i], n_z[i])", (T_STORED,),
+      "        out[i, 1] = np.arctan2(-sgn[i] * nrm[i, 1], nrm[i, 2])",
+      "        out[i, 1] = np.arctan2(sgn[i] * nrm[i, 1], nrm[i, 2])", (T_STORED,),
       "contact angle positive toward the field side"),
     # -- conicity integration (EN 15302 Annex B) ------------------------------------------------
     M("conicity_jacobian", "conicity", "lutmpi/reports/conicity.py",
@@ -282,7 +287,7 @@ MUTATIONS: tuple[Mutation, ...] = (
       "    return lb - 0.125 * (ub - lb)", "    return lb", (T_FLOOR,),
       "the roll scan's window floor leaves out how far a parabola through its gaps can dip"),
     M("rim_unchecked", "rigid roots", "lutmpi/contact/locus.py",
-      "        if not (gaps[:, :, 0] < -RIM_TOL).any():",
+      "        if not any(g[0] < -RIM_TOL for side in gaps.tolist() for g in side):",
       "        if True:", (T_ROOTS,),
       "the end circles of the wheels' data are not checked against the rail"),
     M("rim_lateral_reach", "rigid roots", "lutmpi/contact/rigid_kernels.py",
@@ -379,6 +384,56 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("pose_jumps", "jump-aware tables", "lutmpi/table/interp.py",
       "KINKING = (D.z_g, D.roll)", "KINKING = ()", (T_JUMPS,),
       "the wheelset's pose (z_g, roll) may be taken to jump"),
+    # -- wheelset dynamics (paper §6): Euler's equations, creep kinematics, Hertz, Kalker -------
+    M("gyro_yaw_sign", "dynamics", "lutmpi/dynamics/wheelset.py",
+      'gyro = params.I_yy * kin["omega_axle"] * kin["roll_rate"] if',
+      'gyro = -params.I_yy * kin["omega_axle"] * kin["roll_rate"] if', (T_DYN_CF, T_DYN),
+      "the gyroscopic yaw moment of the spinning axle under a roll rate with the wrong sign"),
+    M("gyro_roll_sign", "dynamics", "lutmpi/dynamics/wheelset.py",
+      'gyro_roll = -params.I_yy * kin["omega_axle"] * kin["vyaw"] if',
+      'gyro_roll = params.I_yy * kin["omega_axle"] * kin["vyaw"] if', (T_DYN_CF, T_DYN),
+      "the gyroscopic roll moment of a yawing axle shifts load to the wrong wheel"),
+    M("ellipse_no_rail_curvature", "dynamics", "lutmpi/dynamics/wheelset.py",
+      "    kt = geom.curv_wheel_transverse[idx][ok] + geom.curv_rail_transverse[idx][ok]",
+      "    kt = geom.curv_wheel_transverse[idx][ok]", (T_DYN_CF, T_DYN),
+      "the Hertz ellipse of the creep forces without the rail head's transverse curvature"),
+    M("shear_modulus_minus", "dynamics", "lutmpi/dynamics/wheelset.py",
+      "        return self.young / (2.0 * (1.0 + self.poisson))",
+      "        return self.young / (2.0 * (1.0 - self.poisson))", (T_DYN_CF, T_DYN),
+      "the creep forces' shear modulus G = E / (2 (1 - nu)) instead of E / (2 (1 + nu))"),
+    M("axle_roll_sign", "dynamics", "lutmpi/dynamics/wheelset.py",
+      "    return np.array([-sy * cr, cy * cr, sr]), np.array([cy, sy, 0.0])",
+      "    return np.array([-sy * cr, cy * cr, -sr]), np.array([cy, sy, 0.0])", (T_DYN_CF, T_DYN),
+      "the axle tilted the wrong way by the roll (the spin creepage of the coned contacts "
+      "then varies with y)"),
+    M("kalker_axes_swapped", "dynamics", "lutmpi/dynamics/wheelset.py",
+      "    x = np.log(np.asarray(a, float) / np.asarray(b, float))",
+      "    x = np.log(np.asarray(b, float) / np.asarray(a, float))", (T_DYN_CF, T_DYN, T_CREEP),
+      "the dynamics' Kalker coefficients read at b/a instead of a/b (rolling and lateral "
+      "semi-axes swapped)"),
+    # -- the linear free-wheelset model (Wickens; critical.py) ---------------------------------
+    M("load_transfer_sign", "dynamics", "lutmpi/dynamics/critical.py",
+      "        return c + s * (self.b * s + self.r0 * c) / (self.b * c - self.r0 * s)",
+      "        return c - s * (self.b * s + self.r0 * c) / (self.b * c - self.r0 * s)", (T_DYN,),
+      "the linear model's load transfer by a lateral creep force taken the wrong way"),
+    # -- Hertz (eqs. 10-13) -----------------------------------------------------------------------
+    M("hertz_approach_k_e_swapped", "stiffness", "lutmpi/contact/stiffness.py",
+      "    delta = b_min**2 * s * k_int / e_int", "    delta = b_min**2 * s * e_int / k_int",
+      (T_STIFF,), "Hertz approach with the elliptic integrals K and E swapped (right for a "
+      "circle only)"),
+    # -- units and conventions at the edges ------------------------------------------------------
+    M("conicity_cmd_half_e", "conicity", "lutmpi/commands/conicity.py",
+      "e=args.e_mm * 1e-3)", "e=0.5 * args.e_mm * 1e-3)", (T_PHYS_CF, T_CON, T_DR_CSV),
+      "lutmpi conicity takes --e-mm as half the contact-point distance (Klingel's wavelength "
+      "off by sqrt(2))"),
+    M("curvature_per_mm", "export", "lutmpi/reports/units.py",
+      '    "1/m": ("1/mm", 1e-3, "per_mm"),', '    "1/m": ("1/mm", 1e3, "per_mm"),',
+      (T_PHYS_CF, T_EXPORT),
+      "curvatures exported in 1/mm multiplied by 1000 instead of divided"),
+    M("flange_back_origin_sign", "profile readers", "lutmpi/profiles/options.py",
+      "            y = y - opts.tape_offset_mm", "            y = y + opts.tape_offset_mm",
+      (T_PHYS_CF, T_READERS), "origin = 'flange_back': the tape-circle offset added instead of "
+                    "subtracted"),
     # -- partitioning -----------------------------------------------------------------------------
     M("block_extra", "partitioning", "lutmpi/parallel/partition.py",
       "    start = rank * base + min(rank, extra)",
