@@ -421,9 +421,14 @@ class ConedWheelProvider:
 
     Geometry (small angles, exact to first order in y and yaw): rolling radii ``r0 ± lam*y``
     (left larger for y > 0), roll ``atan(lam*y/b)``, ``z_g = r0``, contact points on the rails
-    ``(x_c, ±b, 0)`` with the longitudinal shift ``x_c = ±lam*r*tan(yaw)`` of a yawed cone (the
-    lowest point of the cone along the rail line), normals the cone normals ``(0, ∓sin γ, cos γ)``
-    with ``γ = atan(lam) ± roll``.
+    ``(x_c, ±b, 0)`` with the longitudinal shift ``x_c = ∓(b - lam*r)*tan(yaw)`` of a yawed
+    cone (the lowest point of the cone along the rail line: the yaw carries the wheel's centre
+    to ``x = ∓b sin(yaw)``, and the cone's slope moves the lowest point back by ``lam r`` per
+    radian; the tables' own ``wheel_point`` x, −7.6 mm on the left at yaw 0.01 rad on 1:20),
+    normals the cone normals ``(0, ∓sin γ, cos γ)`` with ``γ = atan(lam) ± roll``. The lateral
+    components of the normal loads at these points give Wickens' destabilising yaw
+    gravitational stiffness ``-W lam (b - lam r0)``: a free wheelset on cones is unstable at
+    every speed.
 
     Parameters
     ----------
@@ -462,7 +467,7 @@ class ConedWheelProvider:
             roll = math.atan(lam * y / b)
             delta = math.atan(lam)
             gamma = np.array([delta + roll, delta - roll])
-            x_c = np.array([lam, -lam]) * r * math.tan(yaw)
+            x_c = np.array([-1.0, 1.0]) * (b - lam * r) * math.tan(yaw)
         else:
             roll, gamma, x_c = 0.0, np.zeros(2), np.zeros(2)
         sgn = np.array([-1.0, 1.0])   # the normal leans toward the track centre
