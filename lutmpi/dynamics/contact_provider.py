@@ -419,8 +419,12 @@ class OnlineProvider:
 class ConedWheelProvider:
     """Coned wheels (conicity ``lam``) on knife-edge rails at ``y = ±b``: a closed form.
 
-    Geometry (small angles, exact to first order in y and yaw): rolling radii ``r0 ± lam*y``
-    (left larger for y > 0), roll ``atan(lam*y/b)``, ``z_g = r0``, contact points on the rails
+    Geometry (small angles, exact to first order in y and yaw): roll ``atan(k*y)`` with ``k =
+    lam/(b - lam*r0)`` and rolling radii ``r0 ± lam*y*b/(b - lam*r0)`` (left larger for y > 0):
+    the roll moves each contact along its cone by ``r0*roll`` beyond the shift ``y``, and both
+    wheels touching their rails makes ``r_L - r_R = 2*b*roll`` (the knife edges at ``±b``; the
+    exact relation is ``tan(roll) = lam*y/(b - lam*z_g)``), ``z_g = r0``, contact points on the
+    rails
     ``(x_c, ±b, 0)`` with the longitudinal shift ``x_c = ∓(b - lam*r)*tan(yaw)`` of a yawed
     cone (the lowest point of the cone along the rail line: the yaw carries the wheel's centre
     to ``x = ∓b sin(yaw)``, and the cone's slope moves the lowest point back by ``lam r`` per
@@ -446,7 +450,7 @@ class ConedWheelProvider:
         no finite ellipse; UIC60's crown radius 0.3 m by default).
     offset : float
         Lateral pose of pure rolling, m: the geometry is the centred one moved by ``offset``
-        (the left wheel smaller than the right by ``2 lam offset`` at ``y = 0``: two wheels of
+        (the left wheel smaller than the right by ``2 b k offset`` at ``y = 0``: two wheels of
         different diameters). 0 by default.
     """
 
@@ -462,13 +466,15 @@ class ConedWheelProvider:
     def _pose(self, y: float, yaw: float) -> dict[str, np.ndarray]:
         r0, lam, b = self.r0, self.lam, self.b
         y = y - self.offset
-        r = np.array([r0 + lam * y, r0 - lam * y])
         if self.gravitational:
-            roll = math.atan(lam * y / b)
+            k = lam / (b - lam * r0)
+            roll = math.atan(k * y)
+            r = np.array([r0 + b * k * y, r0 - b * k * y])
             delta = math.atan(lam)
             gamma = np.array([delta + roll, delta - roll])
             x_c = np.array([-1.0, 1.0]) * (b - lam * r) * math.tan(yaw)
-        else:
+        else:   # Klingel: the radii r0 +- lam*y of the shift alone, no roll
+            r = np.array([r0 + lam * y, r0 - lam * y])
             roll, gamma, x_c = 0.0, np.zeros(2), np.zeros(2)
         sgn = np.array([-1.0, 1.0])   # the normal leans toward the track centre
         wp = np.full((2, 2, 3), np.nan)

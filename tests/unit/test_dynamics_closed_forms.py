@@ -46,13 +46,15 @@ def test_a_roll_rate_of_the_spinning_axle_needs_eulers_yaw_moment():
     rate p about +x changes at dH/dt = p e_x x H = I_yy Omega p e_z; without a contact moment
     the yaw acceleration is therefore -I_yy Omega p / I_zz (a wheelset rolling forward whose
     left wheel rises yaws to the right). The roll rate of the coned wheelset is
-    d(roll)/dy * vy, with roll = atan(lam y / b)."""
+    d(roll)/dy * vy, with roll = atan(k y), k = lam / (b - lam r0) (cones on knife edges, both
+    wheels touching: ``test_dynamics.py``, the gravitational stiffness of coned wheels)."""
     lam, speed, vy = 0.2, 20.0, 0.05
+    k = lam / (B - lam * R0)
     geom = ConedWheelProvider(R0, lam, B).evaluate(0.0, 0.0)
-    assert geom.droll_dy == pytest.approx(lam / B, rel=1e-6)      # the closed-form roll
+    assert geom.droll_dy == pytest.approx(k, rel=1e-6)            # the closed-form roll
     acc = accelerations(np.array([0.0, 0.0, vy, 0.0, 0.0]), speed, P, geom, _no_forces())
     omega = speed / R0
-    expected = -P.I_yy * omega * (lam / B) * vy / P.I_zz
+    expected = -P.I_yy * omega * k * vy / P.I_zz
     assert acc[3] == pytest.approx(expected, rel=1e-5)
     assert abs(expected) > 0.1                                    # rad/s^2: it can fail
     assert acc[2] == 0.0 and acc[4] == 0.0

@@ -188,7 +188,8 @@ def test_one_classification_and_rates_in_significant_digits(caplog):
     prov = ConedWheelProvider(0.46, 0.05, 0.75)
     with caplog.at_level(logging.INFO):
         # 8 s: > 4 hunting periods at 12 m/s (wavelength 2 pi sqrt(0.46 0.75 / 0.05) = 16.5 m);
-        # this cone's free wheelset hunts above ~2.7 m/s (linear model), so both runs hunt and
+        # a free wheelset on cones hunts at every speed of practical interest (Wickens' yaw
+        # gravitational stiffness of a yawed cone), so both runs hunt and
         # the bisection stops at once -- what matters is that each run has one verdict
         nl = nonlinear_critical_speed(prov, WheelsetParams(), 12.0, 30.0, rel_tol=0.5,
                                       duration=8.0)
