@@ -22,8 +22,9 @@ Definitions and their sources
 * **Δtanγ function** ``Δtanγ(y) = tan γ_left(y) − tan γ_right(y)`` of the main contacts (contact
   angle positive toward the flange on both wheels), as plotted by the profile-analysis tools and
   used by Polach (2010) next to Δr; its linear coefficient is the contact-angle parameter
-  ``ε = e Δtanγ / (2 y)`` of the linear wheelset model (Wickens). A cone on any rail gives
-  ``Δtanγ ≡ 0``.
+  ``ε = e Δtanγ / (2 y)`` of the linear wheelset model (Wickens). A cone's contact angles are
+  its cone angle plus and minus the wheelset's roll, so ``Δtanγ ≈ 2 roll`` (0 for Klingel's
+  idealised cone without roll).
 
 Not implemented: the radial steering index and GENSYS's GIP (gradient index profile) -- public
 definitions were not found in the material available to this project.

@@ -1,10 +1,14 @@
-"""Geometry indices (lutmpi/reports/indices.py): a pure cone gives each index's closed form.
+"""Geometry indices (lutmpi/reports/indices.py): a pure cone's functions give each index's
+closed form.
 
-A cone of conicity λ on any rail: Δr(y) = 2 λ y exactly (each wheel's rolling radius changes by
-λ per unit of lateral shift), both contact angles equal the cone angle atan(λ). Then
-tan γe(ŷ) = λ for every amplitude (Klingel; EN 15302 Annex B reduces to it), Polach's
+The functions fed here are the idealised cone's, Klingel's: Δr(y) = 2 λ y (each wheel's rolling
+radius changes by λ per unit of lateral shift) and both contact angles the cone angle atan(λ).
+Then tan γe(ŷ) = λ for every amplitude (Klingel; EN 15302 Annex B reduces to it), Polach's
 NP = (tan γe(4) − tan γe(2)) / 2 mm = 0, the rolling-radii coefficient (half the LSQ slope of Δr)
-= λ, and Δtanγ ≡ 0.
+= λ, and Δtanγ ≡ 0. (A solved cone on a real rail is not quite that: the wheelset's roll moves
+each contact along its cone and tilts both normals, so Δr = 2 λ y b / (b − λ r0) on knife-edge
+rails and Δtanγ ≈ 2 roll; the indices are linear in their inputs, so the closed forms above
+scale with it.)
 """
 
 from __future__ import annotations
