@@ -105,7 +105,7 @@ def test_linear_free_wheelset_without_gravitational_stiffness_is_always_unstable
 @pytest.mark.slow
 def test_nonlinear_runs_grow_at_the_rate_of_the_linearisation():
     """1:20 cone, linear creep: the nonlinear model's hunting grows at the rate the eigenvalue of
-    its own Jacobian predicts, at 10 and 20 m/s. On cones the free wheelset hunts at every
+    its own Jacobian predicts, at 10 m/s. On cones the free wheelset hunts at every
     speed of practical interest (the yawed cone's destabilising yaw gravitational stiffness,
     ``test_the_yaw_gravitational_stiffness_of_cones_is_wickens``); its growth is slow (0.010
     1/s at 10 m/s: the amplitude grows by half in 40 s), which is what the run must resolve.
@@ -128,14 +128,16 @@ def test_nonlinear_runs_grow_at_the_rate_of_the_linearisation():
     # amplitude-scaled tolerances: y ~ 25 um, so atol 1e-11 m is 4e-7 of it
     atol = np.array([1e-11, 1e-11, 1e-10, 1e-10, 1e-8])
     kw = dict(vy0=0.1, events=False, rtol=1e-9, atol=atol, dt_out=0.02, max_step=0.05)
-    for v in (10.0, 20.0):
-        ev = np.linalg.eigvals(rhs_jacobian(prov, p, v))
-        sigma = float(np.max(ev.real))       # linear growth rate of the hunting mode, 1/s
-        assert sigma > 5e-3                  # measurable within the run: it can fail
-        run = simulate(prov, p, v, 40.0, **kw)
-        # the nonlinear run at 25 um is in the linear regime: its envelope grows at the
-        # eigenvalue's rate (10 % allowed)
-        assert run.summary.growth_rate == pytest.approx(sigma, rel=0.10)
+    # (one speed: the weakest growth is the hard case; 20 m/s, +0.088 1/s, agreed as well and
+    # doubled the test's 23 s)
+    v = 10.0
+    ev = np.linalg.eigvals(rhs_jacobian(prov, p, v))
+    sigma = float(np.max(ev.real))       # linear growth rate of the hunting mode, 1/s
+    assert sigma > 5e-3                  # measurable within the run: it can fail
+    run = simulate(prov, p, v, 40.0, **kw)
+    # the nonlinear run at 25 um is in the linear regime: its envelope grows at the
+    # eigenvalue's rate (10 % allowed)
+    assert run.summary.growth_rate == pytest.approx(sigma, rel=0.10)
 
 
 def test_hertz_fast_matches_hertz_ellipse():
