@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TypeVar
 
 import numpy as np
@@ -55,6 +56,26 @@ class SideScene:
     flange_base_radius: float
     flange_tip_radius: float
     samp: LocusSampling
+
+    @cached_property
+    def rail_point_args(self) -> tuple:
+        """``(ppolys, u_min, u_max)`` of the placed rail for
+        :func:`lutmpi.pose.rigid._rail_points` (made once: every reference pose reads them,
+        and the rail's properties build them per call)."""
+        rail = self.rail
+        return rail.ppolys, rail.u_min, rail.u_max
+
+    @cached_property
+    def record_args(self) -> tuple:
+        """The side's arguments of :func:`lutmpi.contact.records.record_geometry` after the
+        contacts' own (the wheel's and placed rail's splines and constants, the curvature's
+        half base), made once: every pose's records read them."""
+        from lutmpi.contact.records import CURV_BASE
+
+        wheel, rail = self.wheel, self.rail
+        return (wheel.profile.ppolys, wheel.r0, wheel.s_min, wheel.s_max, rail.ppolys,
+                (rail.u_min, rail.u_max, rail.gauge, rail.v_gp, rail.w_top, rail.inclination),
+                CURV_BASE)
 
 
 @dataclass(frozen=True, eq=False)

@@ -56,27 +56,13 @@ def contact_records(scene, rows: list[tuple]) -> list[ContactResult]:
     return out
 
 
-def record_args(sd) -> tuple:
-    """The arguments of :func:`record_geometry` that depend on the side only (its wheel's and
-    placed rail's splines and constants, :data:`CURV_BASE`): made once per side and kept on it
-    (a pose's records cost ~10 us less without building them again)."""
-    args = sd.__dict__.get("_record_args")
-    if args is None:
-        wheel, rail = sd.wheel, sd.rail
-        args = (wheel.profile.ppolys, wheel.r0, wheel.s_min, wheel.s_max, rail.ppolys,
-                (rail.u_min, rail.u_max, rail.gauge, rail.v_gp, rail.w_top, rail.inclination),
-                CURV_BASE)
-        sd.__dict__["_record_args"] = args  # a frozen dataclass: its own attribute dict
-    return args
-
-
 def _side_records(sd, rows: list[tuple]) -> list[ContactResult]:
     k = len(rows)
     side, s = np.empty(k), np.empty(k)
     rp, nrm = np.empty((k, 3)), np.empty((k, 3))
     for i, r in enumerate(rows):
         side[i], rp[i], nrm[i], s[i] = r[0], r[2], r[3], r[5]
-    geo = record_geometry(side, rp, s, nrm, *record_args(sd))
+    geo = record_geometry(side, rp, s, nrm, *sd.record_args)
     out = []
     for (_, wp, rpi, n, C, si, kc), g in zip(rows, geo.tolist(), strict=True):
         C, kc = float(C), float(kc)

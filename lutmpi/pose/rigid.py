@@ -28,23 +28,13 @@ def rigid_result(scene, rigid, name: str) -> PoseResult:
         u, x = np.empty(k), np.empty(k)
         for i, c in enumerate(cs):
             u[i], x[i] = c.u, c.point[0]
-        rp, n = _rail_points(side, u, x, *_rail_args(scene.side(side_name)))
+        rp, n = _rail_points(side, u, x, *scene.side(side_name).rail_point_args)
         for i, c in enumerate(cs):
             rows.append((side, c.point, rp[i], n[i], max(-c.gap, 0.0), c.s, np.nan))
             names.append(side_name)
     for side_name, rec in zip(names, contact_records(scene, rows), strict=True):
         res.contacts[side_name].append(rec)
     return res
-
-
-def _rail_args(sd) -> tuple:
-    """``(ppolys, u_min, u_max)`` of the side's placed rail for :func:`_rail_points`, made
-    once per side and kept on it."""
-    args = sd.__dict__.get("_rail_args")
-    if args is None:
-        rail = sd.rail
-        args = sd.__dict__["_rail_args"] = (rail.ppolys, rail.u_min, rail.u_max)
-    return args
 
 
 @njit(cache=True)
