@@ -21,6 +21,14 @@ from lutmpi.contact.kernels import (
 )
 from lutmpi.contact.methods.base import MeshMethod
 
+#: m: the bound of :func:`_rail_centroid_sums`' early test must exceed this to drop a rail
+#: node; V.N_i is then at least this over sqrt(1 + dr^2) (>= 1e-9 / 1e3 m), far above its
+#: rounding (~1e-16 m on coordinates of ~1 m)
+REJECT_M = 1e-9
+#: the largest wheel profile slope |dr| for which that test is taken (a steeper slice is
+#: tested in full)
+REJECT_SLOPE = 1e3
+
 
 @njit(cache=True)
 def _rail_centroid_sums(out, ws, win, wheel, pose):
@@ -37,6 +45,13 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
     n = ws_.size
     x_lo = ws_[klo - K_NEAR - 1] if klo - K_NEAR - 1 >= 0 else -np.inf
     x_hi = ws_[khi + K_NEAR] if khi + K_NEAR < n else np.inf
+    # eq. (2)'s wheel-side test bounded before the node's grid angle is sought (issue 14): with
+    # the rail node at wheel-frame (c0, c1, c2) = rho (sin a, ., -cos a), its nearest slice k
+    # and the grid angle m dphi nearest a (|a - m dphi| <= dphi / 2), V.N_i times
+    # sqrt(1 + dr^2) is rho cos(a - m dphi) - r - dr (x - s) >= rho cos(dphi / 2) - r - dr (x - s):
+    # where that is above REJECT_M the node lies outside the wheel and fails eq. (2) whatever its
+    # angle (the same nodes are kept, ~30 % fewer angles sought on the Manchester windows)
+    cos_half = np.cos(0.5 * wheel.dphi)
     pos = 0
     for j in range(rail_pts.shape[0]):
         q0 = rail_pts[j, 0] - centre[0]
@@ -57,8 +72,10 @@ def _rail_centroid_sums(out, ws, win, wheel, pose):
                 break
         if g < 0:
             continue
-        _, sp, cp = grid_angle(c0, c2, wheel)   # the node's angle, its sine and cosine
         r, dr = wr[k], wdr[k]
+        if rho * cos_half - r - dr * (x - ws_[k]) > REJECT_M and abs(dr) < REJECT_SLOPE:
+            continue  # outside the wheel by more than rounding: not in V_int (above)
+        _, sp, cp = grid_angle(c0, c2, wheel)   # the node's angle, its sine and cosine
         b0, b1, b2 = r * sp, side * (d + ws_[k]), -r * cp
         inv = 1.0 / np.sqrt(1.0 + dr * dr)
         n0, n1, n2 = sp * inv, -side * dr * inv, -cp * inv
