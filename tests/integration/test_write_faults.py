@@ -324,6 +324,11 @@ def test_output_folder_removed_mid_build_ends_with_one_line(reference, tmp_path,
     assert proc.returncode == 1, stderr
     assert "Traceback" not in stderr, stderr
     said = [line for line in stderr.splitlines() if "removed during the build" in line]
-    assert len(said) == 1 and f"output folder {folder} was removed" in said[0], stderr
+    # rm -rf removes the folder's files before the folder: a check that falls between the two
+    # finds the unfinished table gone from a folder still there, and says so (seen once with two
+    # test workers on 2 cores); either way one line, naming what it found removed
+    assert len(said) == 1, stderr
+    assert (f"output folder {folder} was removed" in said[0]
+            or f"the unfinished table {out}.partial was removed" in said[0]), stderr
     assert elapsed < (10 if interval == "0" else 30), elapsed   # measured: 1.2 s, 3 s
     assert not folder.exists()              # nothing written anywhere, nothing complete
