@@ -62,8 +62,8 @@ fi
 
 # --- 3. Python dependencies (stamp keyed on pyproject.toml and this list) ------------------------
 DEPS=("numpy>=2" "scipy>=1.11" matplotlib "mpi4py>=4" numba pytest pytest-mpi pytest-timeout
-      hypothesis ruff "Cython>=3" pkgconfig "setuptools>=77" wheel)
-MODULES="numpy scipy matplotlib mpi4py numba pytest pytest_mpi pytest_timeout hypothesis ruff
+      "pytest-xdist>=3" hypothesis ruff "Cython>=3" pkgconfig "setuptools>=77" wheel)
+MODULES="numpy scipy matplotlib mpi4py numba pytest pytest_mpi pytest_timeout xdist hypothesis ruff
          Cython pkgconfig setuptools wheel"
 stamp=".venv/.lutmpi-deps-$(cat pyproject.toml <(printf '%s\n' "${DEPS[@]}") | sha1sum | cut -c1-12)"
 deps_ok() {

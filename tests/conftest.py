@@ -6,14 +6,46 @@ never initialises MPI.
 
 from __future__ import annotations
 
+import os
+import shutil
 import sys
 from pathlib import Path
 
 import pytest
 
-from lutmpi.parallel.mpi import launched_rank_size
-from lutmpi.paths import REPO_ROOT
-from lutmpi.paths import shared_dir as _shared_dir
+import lutmpi
+
+
+def _worker_kernel_cache() -> None:
+    """Under pytest-xdist (``scripts/test.sh`` runs the serial tier on two workers), point this
+    worker, and every process its tests start, at its own copy of the kernels' cache folder.
+
+    The setup fills one folder (``lutmpi.NUMBA_CACHE_DIR``); tests then compile kernels the
+    warm-up does not reach (the table lookup's, ~60 cache files a run), and two processes
+    saving overloads of one function into one folder at once can overwrite each other's data
+    files, which numba does not guard against (:func:`lutmpi.warmup.kernels_ready`). Each
+    worker copies the warmed folder once (~15 MB) to ``<root>/xdist-<worker>/`` and works
+    there; the root reaches child processes through ``LUTMPI_NUMBA_CACHE_ROOT``."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER")
+    if not worker:
+        return
+    from lutmpi.warmup import READY_NAME
+
+    shared = Path(lutmpi.NUMBA_CACHE_DIR)
+    os.environ["LUTMPI_NUMBA_CACHE_ROOT"] = str(shared.parent / f"xdist-{worker}")
+    lutmpi.NUMBA_CACHE_DIR = lutmpi._key_numba_cache()   # makes the (empty) folder
+    own = Path(lutmpi.NUMBA_CACHE_DIR)
+    # copied once per worker and sources; an unwarmed folder is not copied (each worker then
+    # compiles into its own)
+    if (shared / READY_NAME).is_file() and not (own / READY_NAME).is_file():
+        shutil.copytree(shared, own, dirs_exist_ok=True)
+
+
+_worker_kernel_cache()
+
+from lutmpi.parallel.mpi import launched_rank_size  # noqa: E402  (after the cache is chosen)
+from lutmpi.paths import REPO_ROOT  # noqa: E402
+from lutmpi.paths import shared_dir as _shared_dir  # noqa: E402
 
 
 def mpi_world_size() -> int:
