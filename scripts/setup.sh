@@ -77,6 +77,17 @@ if ! deps_ok; then
   pip_q install -q "${DEPS[@]}" || die "pip install of the dependencies failed"
 fi
 
+# --- 3b. The compiled kernels (step 7) start now, in the background: on a fresh machine their
+# compilation (~2 min) runs beside h5py's build (~3 min), which keeps one core busy. The solve
+# path imports neither h5py nor mpi4py, and lutmpi is imported from this folder (the editable
+# install below changes none of its sources, so the kernels' cache folder is the same).
+warm_log="$(mktemp "${TMPDIR:-/tmp}/lutmpi-warmup.XXXXXX")"
+"$VPY" -m lutmpi.warmup >"$warm_log" 2>&1 &
+warm_pid=$!
+# a failed step below ends the script: the warm-up goes with it (a partial cache is not marked
+# complete, so the next run compiles what is missing)
+trap 'kill "$warm_pid" 2>/dev/null || true; rm -f "$warm_log"' EXIT
+
 # --- 4. h5py with MPI, built against Debian's parallel HDF5 (see shared/SETUP_NOTES.md) -----------
 h5py_mpi() { "$VPY" -c 'import h5py, sys; sys.exit(0 if h5py.get_config().mpi else 1)' 2>/dev/null; }
 if ! h5py_mpi; then
@@ -115,5 +126,16 @@ print(f"[setup] ok: h5py {h5py.__version__} (mpi, HDF5 {h5py.version.hdf5_versio
 EOF
 
 # --- 7. Compiled kernels ready: numba's on-disk cache (.numba_cache/, keyed on the sources) filled
-# now (~0.5–1.5 min on a cold cache on 2 cores, a second when warm), so a first build does not compile
-"$VPY" -m lutmpi.warmup || die "compiling the numba kernels failed (see above)"
+# (~0.5–2.5 min on a cold cache, a second when warm; started in step 3b), so a first build does
+# not compile
+warm_rc=0
+wait "$warm_pid" || warm_rc=$?
+trap - EXIT
+if [ "$warm_rc" = 0 ]; then
+  cat "$warm_log"
+  rm -f "$warm_log"
+else
+  cat "$warm_log" >&2
+  rm -f "$warm_log"
+  die "compiling the numba kernels failed (see above)"
+fi
