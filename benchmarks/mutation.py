@@ -105,6 +105,11 @@ MUTATIONS: tuple[Mutation, ...] = (
     M("lc_indent_sign", "contact methods", "lutmpi/contact/methods/load_centre.py",
       "            (WP[g, 0] - RP[g, 0]) * nwv[0]", "            (RP[g, 0] - WP[g, 0]) * nwv[0]",
       CONTACT, "eq. (7): x term of the load-centre indentation with the wrong sign"),
+    M("lc_reject_inside", "contact methods", "lutmpi/contact/methods/load_centre.py",
+      "        if rho * cos_half - r - dr * (x - ws_[k]) > REJECT_M and abs(dr) < REJECT_SLOPE:",
+      "        if rho * cos_half - r - dr * (x - ws_[k]) > -2e-6 and abs(dr) < REJECT_SLOPE:",
+      (T_MESH,), "eq. (2): the rail nodes' early bound also drops nodes up to 2 um inside the "
+      "wheel"),
     M("grid_angle_no_lower_bound", "contact methods", "lutmpi/contact/kernels.py",
       "            if (1 <= i < sin_t.size and tan_b[i - 1] + TAN_MARGIN < t",
       "            if (1 <= i < sin_t.size and -np.inf < t", (T_MESH,),
